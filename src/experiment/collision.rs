@@ -1,0 +1,119 @@
+//! Two monomers colliding head-on: the sticking experiment.
+
+use crate::cpu::state::Monomers;
+use crate::cpu::{CpuEngine, EngineError, DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
+use crate::material::normal_period_of;
+use crate::model::normal::{jkr_potential, X_MIN};
+use crate::model::ContactLaw;
+use glam::DVec3;
+
+/// Energy the JKR loop takes from a head-on collision without damping: the work to stretch the
+/// contact from δ = 0 (where it formed) to the break at −δ_c, U(x_min) − U(x₀) [erg].
+pub fn jkr_loop_energy(law: &ContactLaw) -> f64 {
+    jkr_potential(X_MIN, law.pair.f_c, law.pair.delta0)
+}
+
+/// Relative speed below which two free monomers stick without damping: ½ (m/2) v² = E_loop.
+pub fn analytic_sticking_speed(law: &ContactLaw) -> f64 {
+    (4.0 * jkr_loop_energy(law) / law.mass).sqrt()
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Outcome {
+    Stuck,
+    /// The contact broke; relative speed when it did.
+    Separated {
+        rebound_speed: f64,
+    },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CollisionResult {
+    pub outcome: Outcome,
+    /// Largest overlap reached [cm].
+    pub max_overlap: f64,
+    /// Steps simulated.
+    pub steps: u64,
+}
+
+/// Collides two monomers head-on at relative speed `speed` [cm/s]. They start 0.05 δ₀ apart and
+/// count as stuck when the contact survives `periods` normal periods after forming.
+pub fn head_on_collision(
+    law: &ContactLaw,
+    speed: f64,
+    dt: f64,
+    periods: f64,
+) -> Result<CollisionResult, EngineError> {
+    let r = law.radius;
+    let gap = 0.05 * law.pair.delta0;
+    let half = r + 0.5 * gap;
+    let mut monomers = Monomers::new(vec![
+        DVec3::new(-half, 0.0, 0.0),
+        DVec3::new(half, 0.0, 0.0),
+    ]);
+    monomers.velocity = vec![
+        DVec3::new(0.5 * speed, 0.0, 0.0),
+        DVec3::new(-0.5 * speed, 0.0, 0.0),
+    ];
+    let mut engine = CpuEngine::new(
+        *law,
+        dt,
+        monomers,
+        Vec::new(),
+        DEFAULT_PAIR_SLOTS,
+        DEFAULT_WALL_SLOTS,
+    )?;
+    let period = normal_period_of(law.mass, &law.pair);
+    let approach = gap / speed;
+    let limit = ((approach + periods * period) / dt).ceil() as u64 + 10;
+    let mut formed_at = None;
+    let mut max_overlap = f64::NEG_INFINITY;
+    while engine.step < limit {
+        engine.step()?;
+        let p = &engine.monomers.position;
+        let overlap = 2.0 * r - (p[1] - p[0]).length();
+        max_overlap = max_overlap.max(overlap);
+        let touching = engine.contacts.pair_contact_count() > 0;
+        match (formed_at, touching) {
+            (None, true) => formed_at = Some(engine.step),
+            (Some(_), false) => {
+                let rel = engine.synchronized_velocity(1) - engine.synchronized_velocity(0);
+                return Ok(CollisionResult {
+                    outcome: Outcome::Separated {
+                        rebound_speed: rel.x,
+                    },
+                    max_overlap,
+                    steps: engine.step,
+                });
+            }
+            _ => {}
+        }
+    }
+    Ok(CollisionResult {
+        outcome: Outcome::Stuck,
+        max_overlap,
+        steps: engine.step,
+    })
+}
+
+/// Sticking threshold by bisection between a speed that sticks and one that does not, to a
+/// relative width `tolerance` [cm/s].
+pub fn sticking_threshold(
+    law: &ContactLaw,
+    dt: f64,
+    mut sticks: f64,
+    mut bounces: f64,
+    tolerance: f64,
+) -> Result<f64, EngineError> {
+    for _ in 0..60 {
+        if bounces - sticks <= tolerance * sticks {
+            break;
+        }
+        let mid = 0.5 * (sticks + bounces);
+        match head_on_collision(law, mid, dt, 5.0)?.outcome {
+            Outcome::Stuck => sticks = mid,
+            Outcome::Separated { .. } => bounces = mid,
+        }
+    }
+    Ok(0.5 * (sticks + bounces))
+}

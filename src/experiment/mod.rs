@@ -1,0 +1,3 @@
+//! Experiments: setups, wall motion, measurements and stop rules.
+
+pub mod collision;
