@@ -1,7 +1,9 @@
 //! Contact maintenance pass: breaks stretched contacts (δ < −δ_c) and forms new ones (δ ≥ 0),
 //! keeping the history (pointers, twist, wall anchor) of every contact that persists.
 
+use super::forces::pair_step_energy;
 use super::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
+use super::walls::wall_step_energy;
 use super::EngineError;
 use crate::model::normal::jkr_potential_at_overlap;
 use crate::model::{rolling, sliding, twisting, wall as wall_law, ContactLaw};
@@ -37,6 +39,7 @@ pub fn wall_contact_potential(radius: f64, x: DVec3, wall: &Wall, c: &WallContac
 /// Removes broken contacts and adds new ones; `candidates` are the neighbour-list pairs.
 pub fn update_contacts(
     law: &ContactLaw,
+    dt: f64,
     monomers: &Monomers,
     walls: &[Wall],
     candidates: &[(u32, u32)],
@@ -54,7 +57,7 @@ pub fn update_contacts(
             let c = table.pair[idx];
             let delta = 2.0 * r - (pos[i] - pos[c.partner as usize]).length();
             if delta < -law.pair.delta_c {
-                tally.breaking += pair_contact_potential(law, pos[i], pos[c.partner as usize], &c);
+                tally.breaking += pair_step_energy(law, monomers, dt, i, &c);
                 let last = i * table.pair_slots + table.pair_count[i] as usize - 1;
                 table.pair[idx] = table.pair[last];
                 table.pair_count[i] -= 1;
@@ -69,7 +72,7 @@ pub fn update_contacts(
             let w = &walls[c.wall as usize];
             let delta = wall_law::wall_overlap(pos[i], w.point, w.normal, r);
             if delta < -w.constants.delta_c {
-                tally.walls += wall_contact_potential(r, pos[i], w, &c);
+                tally.walls += wall_step_energy(law, monomers, dt, i, w, &c);
                 let last = i * table.wall_slots + table.wall_count[i] as usize - 1;
                 table.wall[idx] = table.wall[last];
                 table.wall_count[i] -= 1;
@@ -100,7 +103,7 @@ pub fn update_contacts(
             n2: nc,
             twist: 0.0,
         };
-        tally.forming -= pair_contact_potential(law, pos[iu], pos[ju], &c);
+        tally.forming -= pair_step_energy(law, monomers, dt, iu, &c);
         table.pair[iu * table.pair_slots + table.pair_count[iu] as usize] = c;
         table.pair_count[iu] += 1;
     }
@@ -124,7 +127,7 @@ pub fn update_contacts(
                 anchor: pos[i] - w.normal * r,
                 twist: 0.0,
             };
-            tally.walls -= wall_contact_potential(r, pos[i], w, &c);
+            tally.walls -= wall_step_energy(law, monomers, dt, i, w, &c);
             table.wall[i * table.wall_slots + table.wall_count[i] as usize] = c;
             table.wall_count[i] += 1;
         }

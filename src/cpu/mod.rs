@@ -136,6 +136,7 @@ impl CpuEngine {
         engine.neighbours.refresh(&engine.monomers.position);
         contacts::update_contacts(
             &engine.law,
+            dt,
             &engine.monomers,
             &engine.walls,
             &engine.neighbours.pairs,
@@ -162,12 +163,14 @@ impl CpuEngine {
     fn compute_forces(&mut self) {
         forces::pair_forces(
             &self.law,
+            self.dt,
             &mut self.monomers,
             &mut self.contacts,
             &mut self.tally,
         );
         walls::wall_forces(
             &self.law,
+            self.dt,
             &self.walls,
             &mut self.monomers,
             &mut self.contacts,
@@ -191,6 +194,7 @@ impl CpuEngine {
         self.neighbours.refresh(&self.monomers.position);
         contacts::update_contacts(
             &self.law,
+            self.dt,
             &self.monomers,
             &self.walls,
             &self.neighbours.pairs,

@@ -1,42 +1,64 @@
 //! Monomer–wall force pass (Sect. 2.2): JKR with R = r, damping against the wall velocity,
 //! rolling, sliding about the anchor and twisting; sums the force each wall exerts.
 
+use super::contacts::wall_contact_potential;
 use super::state::{ContactTable, Dissipation, Monomers, Wall, WallContact};
 use crate::model::damping::damping_coefficient;
 use crate::model::normal::{jkr_contact_radius_ratio, jkr_force};
 use crate::model::{rolling, sliding, twisting, wall as wall_law, ContactLaw};
 use glam::DVec3;
 
-fn tangential_potential(radius: f64, x: DVec3, wall: &Wall, c: &WallContact) -> f64 {
-    let k = &wall.constants;
-    let xi = wall_law::wall_rolling_displacement(c.n1, wall.normal, radius);
-    let zeta = wall_law::wall_sliding_displacement(x, c.n1, radius, c.anchor, wall.normal);
-    rolling::rolling_potential(xi, k.k_r)
-        + sliding::sliding_potential(zeta, k.k_s)
-        + twisting::twisting_potential(c.twist, k.k_t)
+/// Wall analogue of [`super::forces::pair_step_energy`]: potential plus half the step's work
+/// of the contact's conservative force (relative to the moving wall) and torque.
+pub fn wall_step_energy(
+    law: &ContactLaw,
+    monomers: &Monomers,
+    dt: f64,
+    i: usize,
+    wall: &Wall,
+    c: &WallContact,
+) -> f64 {
+    let (p, v, w) = (
+        &monomers.position,
+        &monomers.velocity,
+        &monomers.angular_velocity,
+    );
+    let (f, fd, m) = wall_interaction(law, p[i], v[i], wall, c);
+    let work = (f - fd).dot(v[i] - wall.velocity) + m.dot(w[i]);
+    wall_contact_potential(law.radius, p[i], wall, c) + 0.5 * dt * work
 }
 
 /// Inelastic limits of a wall contact; everything dissipated goes to the `walls` channel.
 pub fn apply_wall_inelastic_limits(
-    radius: f64,
-    x: DVec3,
+    law: &ContactLaw,
+    monomers: &Monomers,
+    dt: f64,
+    i: usize,
     wall: &Wall,
     c: &mut WallContact,
     tally: &mut Dissipation,
 ) {
     let k = &wall.constants;
-    let before = tangential_potential(radius, x, wall, c);
+    let radius = law.radius;
+    let x = monomers.position[i];
+    let before = wall_step_energy(law, monomers, dt, i, wall, c);
+    let mut changed = false;
     if let Some(n1) = wall_law::wall_rolling_correction(c.n1, wall.normal, radius, k.xi_crit) {
         c.n1 = n1;
+        changed = true;
     }
     let zeta = wall_law::wall_sliding_displacement(x, c.n1, radius, c.anchor, wall.normal);
     if let Some(anchor) = wall_law::wall_sliding_correction(c.anchor, zeta, k.zeta_crit) {
         c.anchor = anchor;
+        changed = true;
     }
     if let Some(twist) = twisting::twisting_correction(c.twist, k.phi_crit) {
         c.twist = twist;
+        changed = true;
     }
-    tally.walls += before - tangential_potential(radius, x, wall, c);
+    if changed {
+        tally.walls += before - wall_step_energy(law, monomers, dt, i, wall, c);
+    }
 }
 
 /// Force on the monomer, its damping part and the torque on it.
@@ -70,6 +92,7 @@ pub fn wall_interaction(
 /// force (and its damping part) each wall exerts on the monomers.
 pub fn wall_forces(
     law: &ContactLaw,
+    dt: f64,
     walls: &[Wall],
     monomers: &mut Monomers,
     table: &mut ContactTable,
@@ -84,7 +107,7 @@ pub fn wall_forces(
             let c = &mut table.wall[i * table.wall_slots + slot];
             let w = c.wall as usize;
             let x = monomers.position[i];
-            apply_wall_inelastic_limits(law.radius, x, &walls[w], c, tally);
+            apply_wall_inelastic_limits(law, monomers, dt, i, &walls[w], c, tally);
             let (f, fd, m) = wall_interaction(law, x, monomers.velocity[i], &walls[w], c);
             monomers.force[i] += f;
             monomers.damping_force[i] += fd;

@@ -52,3 +52,47 @@ pub fn upward_crossings(t: &[f64], y: &[f64], mean: f64) -> Vec<f64> {
 pub fn mean_period(crossings: &[f64]) -> f64 {
     (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64
 }
+
+/// SplitMix64, enough randomness for test geometry.
+pub struct TestRng(pub u64);
+
+impl TestRng {
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+    pub fn uniform(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+    pub fn unit_vector(&mut self) -> DVec3 {
+        loop {
+            let v = DVec3::new(self.uniform(), self.uniform(), self.uniform()) * 2.0 - DVec3::ONE;
+            let l = v.length();
+            if l > 0.1 && l <= 1.0 {
+                return v / l;
+            }
+        }
+    }
+}
+
+/// A random tree aggregate: each monomer sits at the equilibrium distance 2r − δ₀ from a random
+/// earlier one and at least 2r from all others, so every contact starts at rest.
+pub fn tree_aggregate(law: &ContactLaw, n: usize, seed: u64) -> Vec<DVec3> {
+    let mut rng = TestRng(seed);
+    let d = 2.0 * law.radius - law.pair.delta0;
+    let mut pos = vec![DVec3::ZERO];
+    while pos.len() < n {
+        let parent = pos[(rng.uniform() * pos.len() as f64) as usize];
+        let candidate = parent + rng.unit_vector() * d;
+        if pos
+            .iter()
+            .all(|p| *p == parent || (*p - candidate).length() >= 2.0 * law.radius * (1.0 + 1e-6))
+        {
+            pos.push(candidate);
+        }
+    }
+    pos
+}

@@ -1,0 +1,955 @@
+//! Least-squares fit of the compressive-strength curve of porous
+//! aggregates, Eq. 13 of Seizinger, Speith & Kley (2012):
+//!
+//! ```text
+//! φ(P) = φ₂ − (φ₂ − φ₁) / (exp((log₁₀P − log₁₀p_m)/Δ) + 1)
+//! ```
+//!
+//! The curve is a logistic in log₁₀P, so the fit runs in log₁₀p_m rather than
+//! p_m: the problem is much better conditioned there and the error of
+//! log₁₀p_m is close to Gaussian. The error of p_m itself follows by the delta
+//! method and is only meaningful while it is small compared with p_m.
+
+use std::error::Error;
+use std::fmt;
+
+/// Parameters of Eq. 13: low- and high-pressure filling factors φ₁ and φ₂,
+/// the pressure p_m [Pa] at the midpoint of the transition and its width Δ
+/// in decades of pressure.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Eq13 {
+    pub phi1: f64,
+    pub phi2: f64,
+    pub p_m: f64,
+    pub delta: f64,
+}
+
+impl Eq13 {
+    /// Filling factor at pressure `p` [Pa]. `p = 0` gives the limit φ₁,
+    /// negative `p` gives NaN.
+    pub fn phi(&self, p: f64) -> f64 {
+        let s = lower_weight((p.log10() - self.p_m.log10()) / self.delta);
+        // Blended form: exact at both plateaus.
+        self.phi1 * s + self.phi2 * (1.0 - s)
+    }
+
+    /// Pressure [Pa] at which the curve reaches `phi`. `None` unless `phi`
+    /// lies strictly between φ₁ and φ₂, which the curve only approaches
+    /// asymptotically, or if the parameters do not describe a transition.
+    pub fn pressure_at(&self, phi: f64) -> Option<f64> {
+        let span = self.phi2 - self.phi1;
+        let transition = span != 0.0 && span.is_finite() && self.delta > 0.0 && self.p_m > 0.0;
+        if !transition {
+            return None;
+        }
+        let s = (self.phi2 - phi) / span;
+        if !(s > 0.0 && s < 1.0) {
+            return None;
+        }
+        let log10_p = self.p_m.log10() + self.delta * ((1.0 - s) / s).ln();
+        let p = 10f64.powf(log10_p);
+        (p.is_finite() && p > 0.0).then_some(p)
+    }
+}
+
+/// Control of [`fit_eq13`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FitOptions {
+    /// Hold φ₁ at this value instead of fitting it.
+    pub fix_phi1: Option<f64>,
+    /// Hold φ₂ at this value instead of fitting it.
+    pub fix_phi2: Option<f64>,
+    /// Starting point; `None` searches a grid in (log₁₀p_m, Δ). Fixed φ
+    /// values take precedence over the ones given here.
+    pub initial: Option<Eq13>,
+    pub max_iterations: usize,
+}
+
+impl Default for FitOptions {
+    fn default() -> Self {
+        Self {
+            fix_phi1: None,
+            fix_phi2: None,
+            initial: None,
+            max_iterations: 200,
+        }
+    }
+}
+
+/// Outcome of [`fit_eq13`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct FitResult {
+    pub params: Eq13,
+    /// One-sigma errors, zero for fixed parameters. The p_m entry is the
+    /// delta-method error p_m·ln10·σ(log₁₀p_m).
+    pub std_err: Eq13,
+    pub std_err_log10_pm: f64,
+    /// Correlation matrix of the free parameters, ordered as `free`.
+    pub correlation: Vec<Vec<f64>>,
+    /// Free parameters, from "phi1", "phi2", "log10_p_m", "delta".
+    pub free: Vec<&'static str>,
+    /// Unweighted residual sum of squares Σ(φᵢ − φ(Pᵢ))².
+    pub rss: f64,
+    /// χ²/dof when σ was given; otherwise s² = RSS/dof, the residual
+    /// variance that scales the reported errors.
+    pub chi2_per_dof: f64,
+    pub dof: usize,
+    pub iterations: usize,
+    /// False if `max_iterations` ran out; `params` is then the best point
+    /// reached and the errors are evaluated there.
+    pub converged: bool,
+}
+
+/// Why [`fit_eq13`] could not produce a fit.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FitError {
+    /// `phi` or `sigma` is not as long as the pressure array.
+    LengthMismatch {
+        what: &'static str,
+        expected: usize,
+        found: usize,
+    },
+    /// Pressure not finite and positive, or φ not finite.
+    InvalidPoint {
+        index: usize,
+        pressure: f64,
+        phi: f64,
+    },
+    /// Uncertainty not finite and positive.
+    InvalidSigma { index: usize, sigma: f64 },
+    /// A fixed or initial parameter outside its domain.
+    InvalidOption { name: &'static str, value: f64 },
+    /// Need at least one point more than free parameters to estimate errors.
+    TooFewPoints { points: usize, free: usize },
+    /// The data do not constrain all free parameters at the solution.
+    Singular,
+}
+
+impl fmt::Display for FitError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            FitError::LengthMismatch {
+                what,
+                expected,
+                found,
+            } => write!(
+                f,
+                "{what} has {found} entries but there are {expected} pressures"
+            ),
+            FitError::InvalidPoint {
+                index,
+                pressure,
+                phi,
+            } => {
+                if pressure.is_finite() && pressure > 0.0 {
+                    write!(f, "point {index}: filling factor {phi} is not finite")
+                } else {
+                    write!(
+                        f,
+                        "point {index}: pressure {pressure} Pa is not finite and positive"
+                    )
+                }
+            }
+            FitError::InvalidSigma { index, sigma } => write!(
+                f,
+                "point {index}: uncertainty {sigma} is not finite and positive"
+            ),
+            FitError::InvalidOption { name, value } => {
+                write!(f, "option {name} = {value} is outside its domain")
+            }
+            FitError::TooFewPoints { points, free } => write!(
+                f,
+                "{points} points cannot fit {free} free parameters with error estimates: need at least {}",
+                free + 1
+            ),
+            FitError::Singular => write!(
+                f,
+                "the data do not constrain all free parameters \
+                 (is the transition inside the pressure range?)"
+            ),
+        }
+    }
+}
+
+impl Error for FitError {}
+
+const PHI1: usize = 0;
+const PHI2: usize = 1;
+const LOG_PM: usize = 2;
+const DELTA: usize = 3;
+const NAMES: [&str; 4] = ["phi1", "phi2", "log10_p_m", "delta"];
+
+/// Relative step below which the iteration counts as converged.
+const XTOL: f64 = 1e-10;
+
+/// Fits Eq. 13 to filling factors `phi` measured at pressures `p` [Pa],
+/// optionally weighted by one-sigma uncertainties `sigma` of φ.
+///
+/// Without `sigma` the errors are scaled by the residual variance, i.e. the
+/// scatter of the data is taken as their uncertainty.
+pub fn fit_eq13(
+    p: &[f64],
+    phi: &[f64],
+    sigma: Option<&[f64]>,
+    opt: &FitOptions,
+) -> Result<FitResult, FitError> {
+    let n = p.len();
+    if phi.len() != n {
+        return Err(FitError::LengthMismatch {
+            what: "phi",
+            expected: n,
+            found: phi.len(),
+        });
+    }
+    for (index, (&pressure, &phi)) in p.iter().zip(phi).enumerate() {
+        if !(pressure.is_finite() && pressure > 0.0 && phi.is_finite()) {
+            return Err(FitError::InvalidPoint {
+                index,
+                pressure,
+                phi,
+            });
+        }
+    }
+    let w: Vec<f64> = match sigma {
+        None => vec![1.0; n],
+        Some(s) => {
+            if s.len() != n {
+                return Err(FitError::LengthMismatch {
+                    what: "sigma",
+                    expected: n,
+                    found: s.len(),
+                });
+            }
+            let mut w = Vec::with_capacity(n);
+            for (index, &sigma) in s.iter().enumerate() {
+                let wi = 1.0 / (sigma * sigma);
+                if !(sigma.is_finite() && sigma > 0.0 && wi.is_finite()) {
+                    return Err(FitError::InvalidSigma { index, sigma });
+                }
+                w.push(wi);
+            }
+            w
+        }
+    };
+    check_options(opt)?;
+
+    let free = [opt.fix_phi1.is_none(), opt.fix_phi2.is_none(), true, true];
+    let idx: Vec<usize> = (0..4).filter(|&j| free[j]).collect();
+    let k = idx.len();
+    if n < k + 1 {
+        return Err(FitError::TooFewPoints { points: n, free: k });
+    }
+
+    let x: Vec<f64> = p.iter().map(|v| v.log10()).collect();
+    let data = Data {
+        x: &x,
+        y: phi,
+        w: &w,
+    };
+    let mut theta = match opt.initial {
+        Some(e) => [e.phi1, e.phi2, e.p_m.log10(), e.delta],
+        None => initial_guess(&data, opt.fix_phi1, opt.fix_phi2),
+    };
+    if let Some(v) = opt.fix_phi1 {
+        theta[PHI1] = v;
+    }
+    if let Some(v) = opt.fix_phi2 {
+        theta[PHI2] = v;
+    }
+
+    let (theta, iterations, converged) =
+        levenberg_marquardt(&data, theta, &idx, opt.max_iterations);
+
+    let (a, _) = normal_equations(&data, &theta, &idx);
+    let cov = invert_spd(&a, k).ok_or(FitError::Singular)?;
+    let chi2 = data.chi2(&theta);
+    let rss: f64 = x
+        .iter()
+        .zip(phi)
+        .map(|(&xi, &yi)| (yi - model(&theta, xi).0).powi(2))
+        .sum();
+    let dof = n - k;
+    let chi2_per_dof = if sigma.is_some() { chi2 } else { rss } / dof as f64;
+    let scale = if sigma.is_some() { 1.0 } else { chi2_per_dof };
+
+    let mut err = [0.0; 4];
+    for (a, &j) in idx.iter().enumerate() {
+        err[j] = (scale * cov[a][a]).sqrt();
+    }
+    let correlation = (0..k)
+        .map(|a| {
+            (0..k)
+                .map(|b| cov[a][b] / (cov[a][a] * cov[b][b]).sqrt())
+                .collect()
+        })
+        .collect();
+    let p_m = 10f64.powf(theta[LOG_PM]);
+    Ok(FitResult {
+        params: Eq13 {
+            phi1: theta[PHI1],
+            phi2: theta[PHI2],
+            p_m,
+            delta: theta[DELTA],
+        },
+        std_err: Eq13 {
+            phi1: err[PHI1],
+            phi2: err[PHI2],
+            p_m: p_m * std::f64::consts::LN_10 * err[LOG_PM],
+            delta: err[DELTA],
+        },
+        std_err_log10_pm: err[LOG_PM],
+        correlation,
+        free: idx.iter().map(|&j| NAMES[j]).collect(),
+        rss,
+        chi2_per_dof,
+        dof,
+        iterations,
+        converged,
+    })
+}
+
+fn check_options(opt: &FitOptions) -> Result<(), FitError> {
+    let bad = |name, value| Err(FitError::InvalidOption { name, value });
+    for (name, value) in [("fix_phi1", opt.fix_phi1), ("fix_phi2", opt.fix_phi2)] {
+        if let Some(v) = value.filter(|v| !v.is_finite()) {
+            return bad(name, v);
+        }
+    }
+    if let Some(e) = opt.initial {
+        if !e.phi1.is_finite() {
+            return bad("initial.phi1", e.phi1);
+        }
+        if !e.phi2.is_finite() {
+            return bad("initial.phi2", e.phi2);
+        }
+        if !(e.p_m.is_finite() && e.p_m > 0.0) {
+            return bad("initial.p_m", e.p_m);
+        }
+        if !(e.delta.is_finite() && e.delta > 0.0) {
+            return bad("initial.delta", e.delta);
+        }
+    }
+    Ok(())
+}
+
+/// 1/(exp(u) + 1), the weight of φ₁ in Eq. 13, without overflow at large |u|.
+fn lower_weight(u: f64) -> f64 {
+    if u > 0.0 {
+        let e = (-u).exp();
+        e / (1.0 + e)
+    } else {
+        1.0 / (1.0 + u.exp())
+    }
+}
+
+/// φ and its gradient in θ = (φ₁, φ₂, log₁₀p_m, Δ) at x = log₁₀P.
+fn model(theta: &[f64; 4], x: f64) -> (f64, [f64; 4]) {
+    let [phi1, phi2, log_pm, delta] = *theta;
+    let u = (x - log_pm) / delta;
+    let s = lower_weight(u);
+    let span = phi2 - phi1;
+    // ∂φ/∂u = (φ₂ − φ₁)·s·(1 − s), and ∂u/∂log₁₀p_m = −1/Δ, ∂u/∂Δ = −u/Δ.
+    let dphi_du = span * s * (1.0 - s);
+    (
+        phi1 * s + phi2 * (1.0 - s),
+        [s, 1.0 - s, -dphi_du / delta, -dphi_du * u / delta],
+    )
+}
+
+struct Data<'a> {
+    x: &'a [f64],
+    y: &'a [f64],
+    w: &'a [f64],
+}
+
+impl Data<'_> {
+    fn chi2(&self, theta: &[f64; 4]) -> f64 {
+        self.x
+            .iter()
+            .zip(self.y)
+            .zip(self.w)
+            .map(|((&x, &y), &w)| w * (y - model(theta, x).0).powi(2))
+            .sum()
+    }
+}
+
+type Mat = [[f64; 4]; 4];
+
+/// JᵀWJ and JᵀWr over the free parameters `idx`.
+fn normal_equations(d: &Data, theta: &[f64; 4], idx: &[usize]) -> (Mat, [f64; 4]) {
+    let mut a = [[0.0; 4]; 4];
+    let mut g = [0.0; 4];
+    for ((&x, &y), &w) in d.x.iter().zip(d.y).zip(d.w) {
+        let (f, grad) = model(theta, x);
+        let r = y - f;
+        for (i, &pi) in idx.iter().enumerate() {
+            g[i] += w * grad[pi] * r;
+            for (j, &pj) in idx.iter().enumerate() {
+                a[i][j] += w * grad[pi] * grad[pj];
+            }
+        }
+    }
+    (a, g)
+}
+
+/// Marquardt's damped Gauss–Newton iteration; Δ is kept positive because
+/// (Δ, φ₁, φ₂) and (−Δ, φ₂, φ₁) describe the same curve.
+fn levenberg_marquardt(
+    d: &Data,
+    mut theta: [f64; 4],
+    idx: &[usize],
+    max_iterations: usize,
+) -> ([f64; 4], usize, bool) {
+    let k = idx.len();
+    let mut chi2 = d.chi2(&theta);
+    let mut lambda = 1e-3;
+    for iteration in 1..=max_iterations {
+        let (a, g) = normal_equations(d, &theta, idx);
+        let max_diag = (0..k).map(|i| a[i][i]).fold(0.0, f64::max);
+        let mut accepted = None;
+        while lambda <= 1e16 {
+            let mut damped = a;
+            for (i, row) in damped.iter_mut().enumerate().take(k) {
+                row[i] += lambda * a[i][i].max(1e-12 * max_diag).max(f64::MIN_POSITIVE);
+            }
+            if let Some(step) = solve_spd(&damped, &g, k) {
+                let mut trial = theta;
+                for (s, &j) in step.iter().zip(idx) {
+                    trial[j] += s;
+                }
+                if trial[DELTA] > 0.0 && trial.iter().all(|v| v.is_finite()) {
+                    let c = d.chi2(&trial);
+                    if c <= chi2 {
+                        accepted = Some((trial, c, step));
+                        break;
+                    }
+                }
+            }
+            lambda *= 10.0;
+        }
+        // Not even a tiny gradient step lowers χ²: stationary to rounding.
+        let Some((trial, c, step)) = accepted else {
+            return (theta, iteration, true);
+        };
+        lambda = (lambda * 0.1).max(1e-12);
+        let small_step = step
+            .iter()
+            .zip(idx)
+            .all(|(s, &j)| s.abs() <= XTOL * (theta[j].abs() + XTOL));
+        theta = trial;
+        chi2 = c;
+        if small_step || chi2 == 0.0 {
+            return (theta, iteration, true);
+        }
+    }
+    (theta, max_iterations, false)
+}
+
+/// Cholesky factor of the leading k×k block; `None` if it is not positive
+/// definite or a parameter is (nearly) a linear combination of the others.
+fn cholesky(a: &Mat, k: usize) -> Option<Mat> {
+    let mut l = [[0.0; 4]; 4];
+    for i in 0..k {
+        for j in 0..=i {
+            let s = a[i][j] - (0..j).map(|m| l[i][m] * l[j][m]).sum::<f64>();
+            if i == j {
+                if s.is_nan() || s <= 1e-13 * a[i][i] || s <= 0.0 {
+                    return None;
+                }
+                l[i][i] = s.sqrt();
+            } else {
+                l[i][j] = s / l[j][j];
+            }
+        }
+    }
+    Some(l)
+}
+
+fn solve_with(l: &Mat, b: &[f64; 4], k: usize) -> [f64; 4] {
+    let mut y = [0.0; 4];
+    for i in 0..k {
+        y[i] = (b[i] - (0..i).map(|m| l[i][m] * y[m]).sum::<f64>()) / l[i][i];
+    }
+    let mut x = [0.0; 4];
+    for i in (0..k).rev() {
+        x[i] = (y[i] - (i + 1..k).map(|m| l[m][i] * x[m]).sum::<f64>()) / l[i][i];
+    }
+    x
+}
+
+fn solve_spd(a: &Mat, b: &[f64; 4], k: usize) -> Option<Vec<f64>> {
+    let l = cholesky(a, k)?;
+    Some(solve_with(&l, b, k)[..k].to_vec())
+}
+
+fn invert_spd(a: &Mat, k: usize) -> Option<Mat> {
+    let l = cholesky(a, k)?;
+    let mut inv = [[0.0; 4]; 4];
+    for c in 0..k {
+        let mut e = [0.0; 4];
+        e[c] = 1.0;
+        let col = solve_with(&l, &e, k);
+        for (row, v) in inv.iter_mut().zip(col).take(k) {
+            row[c] = v;
+        }
+    }
+    Some(inv)
+}
+
+/// Starting point from a grid in (log₁₀p_m, Δ). For given (p_m, Δ) the model
+/// is linear in φ₁ and φ₂, so each grid node gets its best plateaus by linear
+/// least squares; this finds the basin of the minimum without any knowledge
+/// of the data's scale. The midpoint-crossing estimate is kept as a candidate
+/// for data that constrain the plateaus too weakly for the grid.
+fn initial_guess(d: &Data, fix1: Option<f64>, fix2: Option<f64>) -> [f64; 4] {
+    let (xmin, xmax) =
+        d.x.iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                (lo.min(v), hi.max(v))
+            });
+    let mut best = midpoint_guess(d, fix1, fix2);
+    let mut best_chi2 = d.chi2(&best);
+    const NL: usize = 61;
+    const ND: usize = 20;
+    for i in 0..NL {
+        let log_pm = xmin - 0.5 + (xmax - xmin + 1.0) * i as f64 / (NL - 1) as f64;
+        for j in 0..ND {
+            // Δ from 0.03 to 3 decades.
+            let delta = 0.03 * 100f64.powf(j as f64 / (ND - 1) as f64);
+            let Some((phi1, phi2)) = best_plateaus(d, log_pm, delta, fix1, fix2) else {
+                continue;
+            };
+            let theta = [phi1, phi2, log_pm, delta];
+            let c = d.chi2(&theta);
+            if c < best_chi2 {
+                best = theta;
+                best_chi2 = c;
+            }
+        }
+    }
+    best
+}
+
+/// Weighted linear least squares for the free plateaus at fixed (p_m, Δ),
+/// with φ = φ₁·s + φ₂·(1 − s).
+fn best_plateaus(
+    d: &Data,
+    log_pm: f64,
+    delta: f64,
+    fix1: Option<f64>,
+    fix2: Option<f64>,
+) -> Option<(f64, f64)> {
+    let (mut ss, mut st, mut tt, mut sy, mut ty) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for ((&x, &y), &w) in d.x.iter().zip(d.y).zip(d.w) {
+        let s = lower_weight((x - log_pm) / delta);
+        let t = 1.0 - s;
+        let y = y - fix1.map_or(0.0, |v| v * s) - fix2.map_or(0.0, |v| v * t);
+        ss += w * s * s;
+        st += w * s * t;
+        tt += w * t * t;
+        sy += w * s * y;
+        ty += w * t * y;
+    }
+    let tiny = 1e-9 * d.w.iter().sum::<f64>();
+    let (phi1, phi2) = match (fix1, fix2) {
+        (Some(a), Some(b)) => (a, b),
+        (Some(a), None) => (a, (tt > tiny).then(|| ty / tt)?),
+        (None, Some(b)) => ((ss > tiny).then(|| sy / ss)?, b),
+        (None, None) => {
+            let det = ss * tt - st * st;
+            if !(det > 1e-6 * ss * tt && ss > tiny && tt > tiny) {
+                return None;
+            }
+            ((tt * sy - st * ty) / det, (ss * ty - st * sy) / det)
+        }
+    };
+    (phi1.is_finite() && phi2.is_finite()).then_some((phi1, phi2))
+}
+
+/// Plateaus at the data extremes, p_m where φ crosses their mean, Δ = 0.5.
+fn midpoint_guess(d: &Data, fix1: Option<f64>, fix2: Option<f64>) -> [f64; 4] {
+    let mut pts: Vec<(f64, f64)> = d.x.iter().copied().zip(d.y.iter().copied()).collect();
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let ymin = pts.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
+    let ymax = pts.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max);
+    let phi1 = fix1.unwrap_or(ymin);
+    let phi2 = fix2.unwrap_or(ymax);
+    let mid = 0.5 * (phi1 + phi2);
+    let crossing = pts.windows(2).find_map(|w| {
+        let (a, b) = (w[0], w[1]);
+        ((a.1 - mid) * (b.1 - mid) <= 0.0 && a.1 != b.1)
+            .then(|| a.0 + (b.0 - a.0) * (mid - a.1) / (b.1 - a.1))
+    });
+    let log_pm = crossing.unwrap_or_else(|| {
+        pts.iter()
+            .min_by(|a, b| (a.1 - mid).abs().total_cmp(&(b.1 - mid).abs()))
+            .map_or(0.0, |p| p.0)
+    });
+    [phi1, phi2, log_pm, 0.5]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GUETTLER: Eq13 = Eq13 {
+        phi1: 0.15,
+        phi2: 0.58,
+        p_m: 16667.0,
+        delta: 0.562,
+    };
+    const BLUM: Eq13 = Eq13 {
+        phi1: 0.15,
+        phi2: 0.33,
+        p_m: 5600.0,
+        delta: 0.33,
+    };
+
+    fn logspace(lo: f64, hi: f64, n: usize) -> Vec<f64> {
+        let (a, b) = (lo.log10(), hi.log10());
+        (0..n)
+            .map(|i| 10f64.powf(a + (b - a) * i as f64 / (n - 1) as f64))
+            .collect()
+    }
+
+    #[test]
+    fn pinned_values() {
+        let p = [1e2, 1e3, 1e4, 1e5, 1e6];
+        let guettler = [0.1581, 0.1939, 0.3231, 0.4939, 0.5626];
+        let blum = [0.1509, 0.1669, 0.2728, 0.3260, 0.3298];
+        for (params, want) in [(GUETTLER, guettler), (BLUM, blum)] {
+            for (&p, &want) in p.iter().zip(&want) {
+                let got = params.phi(p);
+                assert!((got - want).abs() <= 5e-5, "{params:?} at {p}: {got}");
+            }
+        }
+    }
+
+    #[test]
+    fn limits_and_inverse() {
+        assert_eq!(GUETTLER.phi(0.0), 0.15);
+        assert_eq!(GUETTLER.phi(1e300), 0.58);
+        assert!((GUETTLER.phi(GUETTLER.p_m) - 0.365).abs() < 1e-15);
+        assert!(GUETTLER.phi(-1.0).is_nan());
+        for p in logspace(1.0, 1e7, 15) {
+            let back = GUETTLER.pressure_at(GUETTLER.phi(p)).unwrap();
+            assert!((back / p - 1.0).abs() < 1e-9, "{p} -> {back}");
+        }
+        for phi in [0.15, 0.58, 0.1, 0.7, f64::NAN] {
+            assert_eq!(GUETTLER.pressure_at(phi), None, "{phi}");
+        }
+        let flat = Eq13 {
+            phi2: 0.15,
+            ..GUETTLER
+        };
+        assert_eq!(flat.pressure_at(0.15), None);
+    }
+
+    fn assert_recovers(truth: Eq13, fix1: bool, fix2: bool) {
+        let p = logspace(1e2, 1e6, 21);
+        let phi: Vec<f64> = p.iter().map(|&p| truth.phi(p)).collect();
+        let opt = FitOptions {
+            fix_phi1: fix1.then_some(truth.phi1),
+            fix_phi2: fix2.then_some(truth.phi2),
+            ..FitOptions::default()
+        };
+        let r = fit_eq13(&p, &phi, None, &opt).unwrap();
+        let ctx = format!("{truth:?} fix=({fix1},{fix2}): {r:?}");
+        assert!(r.converged, "{ctx}");
+        assert!((r.params.phi1 - truth.phi1).abs() < 1e-9, "{ctx}");
+        assert!((r.params.phi2 - truth.phi2).abs() < 1e-9, "{ctx}");
+        assert!((r.params.p_m / truth.p_m - 1.0).abs() < 1e-8, "{ctx}");
+        assert!((r.params.delta - truth.delta).abs() < 1e-9, "{ctx}");
+        assert!(r.rss < 1e-24, "{ctx}");
+        assert_eq!(r.free.len(), 4 - fix1 as usize - fix2 as usize);
+        assert_eq!(r.dof, 21 - r.free.len());
+        if fix1 {
+            assert_eq!((r.params.phi1, r.std_err.phi1), (truth.phi1, 0.0));
+        }
+        if fix2 {
+            assert_eq!((r.params.phi2, r.std_err.phi2), (truth.phi2, 0.0));
+        }
+    }
+
+    #[test]
+    fn recovers_noise_free_parameters() {
+        for truth in [GUETTLER, BLUM] {
+            for (fix1, fix2) in [(false, false), (true, true), (true, false), (false, true)] {
+                assert_recovers(truth, fix1, fix2);
+            }
+        }
+    }
+
+    #[test]
+    fn explicit_initial_guess_is_used() {
+        let p = logspace(1e2, 1e6, 21);
+        let phi: Vec<f64> = p.iter().map(|&p| BLUM.phi(p)).collect();
+        let opt = FitOptions {
+            initial: Some(Eq13 {
+                phi1: 0.1,
+                phi2: 0.4,
+                p_m: 1e5,
+                delta: 1.0,
+            }),
+            ..FitOptions::default()
+        };
+        let r = fit_eq13(&p, &phi, None, &opt).unwrap();
+        assert!(r.converged);
+        assert!((r.params.p_m / BLUM.p_m - 1.0).abs() < 1e-8, "{r:?}");
+        let stuck = fit_eq13(
+            &p,
+            &phi,
+            None,
+            &FitOptions {
+                max_iterations: 1,
+                ..opt
+            },
+        )
+        .unwrap();
+        assert!(!stuck.converged);
+        assert_eq!(stuck.iterations, 1);
+    }
+
+    #[test]
+    fn correlation_matrix_is_symmetric_with_unit_diagonal() {
+        let p = logspace(1e2, 1e6, 21);
+        let mut rng = SplitMix64(7);
+        let phi: Vec<f64> = p
+            .iter()
+            .map(|&p| GUETTLER.phi(p) + 0.005 * rng.normal())
+            .collect();
+        let r = fit_eq13(&p, &phi, None, &FitOptions::default()).unwrap();
+        assert_eq!(r.free, ["phi1", "phi2", "log10_p_m", "delta"]);
+        for i in 0..4 {
+            assert!((r.correlation[i][i] - 1.0).abs() < 1e-12);
+            for j in 0..4 {
+                assert!((r.correlation[i][j] - r.correlation[j][i]).abs() < 1e-12);
+                assert!(r.correlation[i][j].abs() <= 1.0 + 1e-12);
+            }
+        }
+        let ln10 = std::f64::consts::LN_10;
+        assert!((r.std_err.p_m - r.params.p_m * ln10 * r.std_err_log10_pm).abs() < 1e-9);
+        assert!((r.chi2_per_dof - r.rss / r.dof as f64).abs() < 1e-18);
+    }
+
+    /// SplitMix64 (Steele, Lea & Flood 2014) with Box–Muller normals.
+    struct SplitMix64(u64);
+
+    impl SplitMix64 {
+        fn next_u64(&mut self) -> u64 {
+            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            z ^ (z >> 31)
+        }
+
+        /// Uniform in (0, 1), never 0 so the logarithm below is finite.
+        fn uniform(&mut self) -> f64 {
+            ((self.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+        }
+
+        fn normal(&mut self) -> f64 {
+            let (u1, u2) = (self.uniform(), self.uniform());
+            (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+        }
+    }
+
+    struct Coverage {
+        /// Empirical sd of the estimates over reported mean error, per parameter.
+        sd_over_err: [f64; 4],
+        /// Fraction of fits whose 1σ interval holds the truth.
+        within_1sigma: [f64; 4],
+        mean_chi2_per_dof: f64,
+    }
+
+    fn monte_carlo(with_sigma: bool, draws: usize, seed: u64) -> Coverage {
+        const NOISE: f64 = 0.005;
+        let p = logspace(1e2, 1e6, 40);
+        let sigma = vec![NOISE; p.len()];
+        let truth = GUETTLER;
+        let want = [truth.phi1, truth.phi2, truth.p_m.log10(), truth.delta];
+        let mut rng = SplitMix64(seed);
+        let (mut sum, mut sum2, mut err, mut hits) = ([0.0; 4], [0.0; 4], [0.0; 4], [0usize; 4]);
+        let mut chi2 = 0.0;
+        for _ in 0..draws {
+            let phi: Vec<f64> = p
+                .iter()
+                .map(|&p| truth.phi(p) + NOISE * rng.normal())
+                .collect();
+            let s = with_sigma.then_some(&sigma[..]);
+            let r = fit_eq13(&p, &phi, s, &FitOptions::default()).unwrap();
+            assert!(r.converged, "{r:?}");
+            let got = [
+                r.params.phi1,
+                r.params.phi2,
+                r.params.p_m.log10(),
+                r.params.delta,
+            ];
+            let e = [
+                r.std_err.phi1,
+                r.std_err.phi2,
+                r.std_err_log10_pm,
+                r.std_err.delta,
+            ];
+            for j in 0..4 {
+                sum[j] += got[j];
+                sum2[j] += got[j] * got[j];
+                err[j] += e[j];
+                hits[j] += usize::from((got[j] - want[j]).abs() <= e[j]);
+            }
+            chi2 += r.chi2_per_dof;
+        }
+        let m = draws as f64;
+        let mut c = Coverage {
+            sd_over_err: [0.0; 4],
+            within_1sigma: [0.0; 4],
+            mean_chi2_per_dof: chi2 / m,
+        };
+        for j in 0..4 {
+            let mean = sum[j] / m;
+            let sd = ((sum2[j] - m * mean * mean) / (m - 1.0)).sqrt();
+            c.sd_over_err[j] = sd / (err[j] / m);
+            c.within_1sigma[j] = hits[j] as f64 / m;
+        }
+        c
+    }
+
+    #[test]
+    fn reported_errors_match_monte_carlo_scatter() {
+        for (with_sigma, seed) in [(true, 1), (false, 2)] {
+            let c = monte_carlo(with_sigma, 400, seed);
+            println!(
+                "sigma given: {with_sigma}; sd/err (phi1, phi2, log10_p_m, delta) = {:.3?}; \
+                 1-sigma coverage = {:.3?}; mean chi2/dof = {:.4e}",
+                c.sd_over_err, c.within_1sigma, c.mean_chi2_per_dof
+            );
+            for (j, name) in NAMES.iter().enumerate() {
+                assert!(
+                    (c.sd_over_err[j] - 1.0).abs() < 0.2,
+                    "{name}: sd/err = {}",
+                    c.sd_over_err[j]
+                );
+                assert!(
+                    (0.60..=0.76).contains(&c.within_1sigma[j]),
+                    "{name}: coverage {}",
+                    c.within_1sigma[j]
+                );
+            }
+            // With σ given, χ²/dof should scatter about 1; without, it is s² ≈ σ².
+            let expect = if with_sigma { 1.0 } else { 0.005f64.powi(2) };
+            assert!((c.mean_chi2_per_dof / expect - 1.0).abs() < 0.05);
+        }
+    }
+
+    #[test]
+    fn rejects_bad_input() {
+        let p = logspace(1e2, 1e6, 8);
+        let phi: Vec<f64> = p.iter().map(|&p| GUETTLER.phi(p)).collect();
+        let opt = FitOptions::default();
+
+        let mut bad = p.clone();
+        bad[3] = 0.0;
+        let e = fit_eq13(&bad, &phi, None, &opt).unwrap_err();
+        assert_eq!(
+            e,
+            FitError::InvalidPoint {
+                index: 3,
+                pressure: 0.0,
+                phi: phi[3]
+            }
+        );
+        assert_eq!(
+            e.to_string(),
+            "point 3: pressure 0 Pa is not finite and positive"
+        );
+        bad[3] = -5.0;
+        assert!(fit_eq13(&bad, &phi, None, &opt)
+            .unwrap_err()
+            .to_string()
+            .contains("point 3: pressure -5 Pa"));
+        bad[3] = f64::INFINITY;
+        assert!(fit_eq13(&bad, &phi, None, &opt)
+            .unwrap_err()
+            .to_string()
+            .contains("inf"));
+
+        let mut bad_phi = phi.clone();
+        bad_phi[5] = f64::NAN;
+        let e = fit_eq13(&p, &bad_phi, None, &opt).unwrap_err();
+        assert_eq!(e.to_string(), "point 5: filling factor NaN is not finite");
+
+        let e = fit_eq13(&p, &phi[..7], None, &opt).unwrap_err();
+        assert!(matches!(e, FitError::LengthMismatch { what: "phi", .. }));
+        let e = fit_eq13(&p, &phi, Some(&[0.01; 3]), &opt).unwrap_err();
+        assert!(matches!(e, FitError::LengthMismatch { what: "sigma", .. }));
+        let mut sigma = vec![0.01; 8];
+        sigma[2] = 0.0;
+        let e = fit_eq13(&p, &phi, Some(&sigma), &opt).unwrap_err();
+        assert_eq!(
+            e,
+            FitError::InvalidSigma {
+                index: 2,
+                sigma: 0.0
+            }
+        );
+
+        let e = fit_eq13(&p[..4], &phi[..4], None, &opt).unwrap_err();
+        assert_eq!(e, FitError::TooFewPoints { points: 4, free: 4 });
+        assert!(e.to_string().contains("at least 5"));
+        let fixed = FitOptions {
+            fix_phi1: Some(0.15),
+            fix_phi2: Some(0.58),
+            ..opt
+        };
+        assert!(fit_eq13(&p[..3], &phi[..3], None, &fixed).is_ok());
+        assert!(fit_eq13(&p[..2], &phi[..2], None, &fixed).is_err());
+        assert!(fit_eq13(&[], &[], None, &opt).is_err());
+
+        let e = fit_eq13(
+            &p,
+            &phi,
+            None,
+            &FitOptions {
+                fix_phi1: Some(f64::NAN),
+                ..opt
+            },
+        )
+        .unwrap_err();
+        assert!(matches!(
+            e,
+            FitError::InvalidOption {
+                name: "fix_phi1",
+                ..
+            }
+        ));
+        let e = fit_eq13(
+            &p,
+            &phi,
+            None,
+            &FitOptions {
+                initial: Some(Eq13 {
+                    delta: -0.5,
+                    ..GUETTLER
+                }),
+                ..opt
+            },
+        )
+        .unwrap_err();
+        assert!(matches!(
+            e,
+            FitError::InvalidOption {
+                name: "initial.delta",
+                ..
+            }
+        ));
+
+        // All points at one pressure cannot locate the transition.
+        let same = [1e4; 6];
+        let e = fit_eq13(&same, &[0.2, 0.21, 0.19, 0.2, 0.22, 0.18], None, &opt).unwrap_err();
+        assert_eq!(e, FitError::Singular);
+
+        let boxed: Box<dyn Error> = Box::new(FitError::Singular);
+        assert!(!boxed.to_string().is_empty());
+    }
+}

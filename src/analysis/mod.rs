@@ -1,0 +1,2 @@
+//! Post-processing of simulation output.
+pub mod fit;

@@ -1,0 +1,3 @@
+//! Output files: figures and tables.
+pub mod csv;
+pub mod plot;
