@@ -1,5 +1,9 @@
 //! dustdem: molecular dynamics of porous dust agglomerates.
 
+// The CPU passes mirror GPU kernels: index loops over monomers and explicit argument lists are
+// their structure, kept on purpose so each pass reads like its WGSL twin.
+#![allow(clippy::needless_range_loop, clippy::too_many_arguments)]
+
 pub mod analysis;
 pub mod cpu;
 pub mod experiment;
