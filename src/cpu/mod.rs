@@ -221,7 +221,7 @@ impl CpuEngine {
         self.tally.damping -= damping_work;
         self.step += 1;
         self.time += dt;
-        if self.step % 64 == 0 {
+        if self.step.is_multiple_of(64) {
             self.check_finite()?;
         }
         Ok(())
