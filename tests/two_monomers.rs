@@ -13,7 +13,7 @@ use glam::DVec3;
 fn sticking_threshold_equals_the_jkr_loop_energy_balance() {
     let law = undamped();
     let analytic = analytic_sticking_speed(&law);
-    // Derived from the force law: E_loop = 0.77213 F_c δ₀ → 11.0 cm/s (Chokshi: 7.18 cm/s).
+    // Derived from the force law: E_loop = 0.772241 F_c δ₀ → 11.0 cm/s (Chokshi: 7.18 cm/s).
     assert!(
         (analytic - 11.0).abs() < 0.1,
         "analytic threshold {analytic}"

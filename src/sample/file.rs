@@ -458,8 +458,11 @@ mod tests {
 
     impl TempFile {
         fn new(name: &str) -> TempFile {
+            // Tests run on parallel threads and several share a name: add a counter.
+            static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+            let k = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
             let p = std::env::temp_dir().join(format!(
-                "dustdem-sample-test-{}-{name}.txt",
+                "dustdem-sample-test-{}-{k}-{name}.txt",
                 std::process::id()
             ));
             TempFile(p)

@@ -26,31 +26,57 @@ fn volume_below(r: f64, t: f64) -> f64 {
 /// # Panics
 /// If `slab` is not positive and finite.
 pub fn filling_factor_profile(s: &Sample, slab: f64) -> Vec<(f64, f64)> {
-    assert!(
-        slab.is_finite() && slab > 0.0,
-        "slab thickness must be positive and finite, got {slab}"
-    );
     if s.positions.is_empty() {
         return Vec::new();
     }
     let top = s.z_max() + s.radius;
-    let n_slabs = (top / slab).ceil() as usize;
+    slab_profile(
+        s.positions.iter().map(|p| p[2]),
+        s.radius,
+        s.footprint.area(),
+        0.0,
+        top,
+        slab,
+    )
+}
+
+/// Filling factor of spheres of radius `r` with centre heights `z` in slabs of thickness `slab`
+/// between `bottom` and `top`, over the horizontal `area`: `(slab centre, φ)` per slab.
+///
+/// # Panics
+/// If `slab` is not positive and finite.
+pub fn slab_profile(
+    z: impl Iterator<Item = f64>,
+    r: f64,
+    area: f64,
+    bottom: f64,
+    top: f64,
+    slab: f64,
+) -> Vec<(f64, f64)> {
+    assert!(
+        slab.is_finite() && slab > 0.0,
+        "slab thickness must be positive and finite, got {slab}"
+    );
+    if top <= bottom {
+        return Vec::new();
+    }
+    let n_slabs = ((top - bottom) / slab).ceil() as usize;
     let mut volume = vec![0.0; n_slabs];
-    let r = s.radius;
-    for p in &s.positions {
-        let first = ((p[2] - r) / slab).floor().max(0.0) as usize;
-        let last = (((p[2] + r) / slab).floor() as usize).min(n_slabs - 1);
+    for zc in z {
+        let zc = zc - bottom;
+        let first = ((zc - r) / slab).floor().max(0.0) as usize;
+        let last = (((zc + r) / slab).floor().max(0.0) as usize).min(n_slabs - 1);
         for (k, v) in volume.iter_mut().enumerate().take(last + 1).skip(first) {
-            let lo = k as f64 * slab - p[2];
-            let hi = (k + 1) as f64 * slab - p[2];
+            let lo = k as f64 * slab - zc;
+            let hi = (k + 1) as f64 * slab - zc;
             *v += volume_below(r, hi) - volume_below(r, lo);
         }
     }
-    let slab_volume = s.footprint.area() * slab;
+    let slab_volume = area * slab;
     volume
         .into_iter()
         .enumerate()
-        .map(|(k, v)| ((k as f64 + 0.5) * slab, v / slab_volume))
+        .map(|(k, v)| (bottom + (k as f64 + 0.5) * slab, v / slab_volume))
         .collect()
 }
 
