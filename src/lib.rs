@@ -5,9 +5,11 @@
 #![allow(clippy::needless_range_loop, clippy::too_many_arguments)]
 
 pub mod analysis;
+pub mod config;
 pub mod cpu;
 pub mod experiment;
 pub mod io;
+pub mod job;
 pub mod material;
 pub mod model;
 pub mod rng;

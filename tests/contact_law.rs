@@ -89,13 +89,17 @@ fn inelastic_corrections_land_exactly_on_the_critical_lengths() {
         }
         let normal = rng.unit_vector();
         let n1w = (-normal + rng.unit_vector() * spread).normalize();
-        if let Some(a) = wall::wall_rolling_correction(n1w, normal, r, k.xi_crit) {
+        let x = normal * r + rng.unit_vector() * (spread * 1e-6);
+        let anchor = x - normal * r;
+        if let Some((a, p)) = wall::wall_rolling_correction(n1w, anchor, normal, r, k.xi_crit) {
             let xi = wall::wall_rolling_displacement(a, normal, r).length();
             assert!((xi / k.xi_crit - 1.0).abs() < 1e-9, "wall rolling {xi:e}");
             assert!((a.length() - 1.0).abs() < 1e-14);
+            // The sliding displacement is left as it was.
+            let before = wall::wall_sliding_displacement(x, n1w, r, anchor, normal);
+            let after = wall::wall_sliding_displacement(x, a, r, p, normal);
+            assert!((after - before).length() <= 1e-12 * r);
         }
-        let x = normal * r + rng.unit_vector() * (spread * 1e-6);
-        let anchor = x - normal * r;
         let zeta = wall::wall_sliding_displacement(x, n1w, r, anchor, normal);
         if let Some(p) = wall::wall_sliding_correction(anchor, zeta, k.zeta_crit) {
             let z = wall::wall_sliding_displacement(x, n1w, r, p, normal).length();

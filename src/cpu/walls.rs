@@ -43,8 +43,11 @@ pub fn apply_wall_inelastic_limits(
     let x = monomers.position[i];
     let before = wall_step_energy(law, monomers, dt, i, wall, c);
     let mut changed = false;
-    if let Some(n1) = wall_law::wall_rolling_correction(c.n1, wall.normal, radius, k.xi_crit) {
+    if let Some((n1, anchor)) =
+        wall_law::wall_rolling_correction(c.n1, c.anchor, wall.normal, radius, k.xi_crit)
+    {
         c.n1 = n1;
+        c.anchor = anchor;
         changed = true;
     }
     let zeta = wall_law::wall_sliding_displacement(x, c.n1, radius, c.anchor, wall.normal);

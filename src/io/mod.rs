@@ -1,3 +1,4 @@
-//! Output files: figures and tables.
+//! Output files: figures, tables, atomic writes.
+pub mod atomic;
 pub mod csv;
 pub mod plot;

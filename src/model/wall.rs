@@ -15,7 +15,18 @@ pub fn wall_rolling_displacement(n1: DVec3, normal: DVec3, r: f64) -> DVec3 {
 
 /// Inelastic wall rolling: n_w stays fixed, n₁ is turned back towards −n_w in the plane of n₁
 /// and n_w until |ξ| = ξ_crit exactly (|n₁ + n_w| = 2 sin(θ/2) for the angle θ between n₁ and −n_w).
-pub fn wall_rolling_correction(n1: DVec3, normal: DVec3, r: f64, xi_crit: f64) -> Option<DVec3> {
+///
+/// The anchor moves with the contact centre, by r Δn₁: the contact area relocates on the monomer
+/// and along the wall together, which leaves ζ unchanged, as Δn₁ = Δn₂ leaves ζ unchanged for a
+/// monomer pair. (Turning n₁ alone, as printed, converts rolling into sliding displacement and can
+/// raise the contact's potential energy, i.e. create energy.) Returns (n₁, anchor).
+pub fn wall_rolling_correction(
+    n1: DVec3,
+    anchor: DVec3,
+    normal: DVec3,
+    r: f64,
+    xi_crit: f64,
+) -> Option<(DVec3, DVec3)> {
     let xi = wall_rolling_displacement(n1, normal, r).length();
     if xi <= xi_crit {
         return None;
@@ -31,7 +42,8 @@ pub fn wall_rolling_correction(n1: DVec3, normal: DVec3, r: f64, xi_crit: f64) -
     } else {
         normal.any_orthonormal_vector()
     };
-    Some(-normal * cos + dir * sin)
+    let corrected = -normal * cos + dir * sin;
+    Some((corrected, anchor + (corrected - n1) * r))
 }
 
 /// Sliding displacement: ζ₀ = x + r n₁ − p (p: where the contact formed), ζ = ζ₀ − (ζ₀·n_w)n_w.

@@ -11,7 +11,7 @@ mod rbd;
 
 pub use file::SampleError;
 pub use profile::{
-    filling_factor_profile, interior_filling_factor, INTERIOR_MARGIN_CONTACTS,
+    filling_factor_profile, interior_filling_factor, slab_profile, INTERIOR_MARGIN_CONTACTS,
     INTERIOR_Z_HI_FRACTION, INTERIOR_Z_LO_FRACTION,
 };
 pub use rbd::{generate_rbd, side_for_cube, RbdParams};

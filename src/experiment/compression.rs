@@ -1,0 +1,259 @@
+//! Omni- and unidirectional compression at constant wall speed, measured every
+//! `average_steps` steps: wall pressures averaged over those steps, filling factor, contacts and
+//! the energy channels.
+
+use super::measure::{filling_factor, projected_area};
+use super::setup::{build_sample, build_walls, monomers_of, SetupError, TOP_WALL};
+use crate::config::{Config, ExperimentKind};
+use crate::cpu::{CpuEngine, EnergyReport, EngineError};
+use crate::sample::{slab_profile, Sample};
+use std::fmt;
+
+/// One measurement row.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Row {
+    pub step: u64,
+    pub time: f64,
+    /// Distance between the bottom and top wall planes [cm].
+    pub wall_gap: f64,
+    /// Cross-section used for φ and P [cm²]: the box base, or the projected area (uni).
+    pub area: f64,
+    pub phi: f64,
+    /// Mean pressure on the top and bottom wall over the last `average_steps` steps [Pa].
+    pub p_top: f64,
+    pub p_bottom: f64,
+    pub contacts: usize,
+    pub wall_contacts: usize,
+    pub energy: EnergyReport,
+}
+
+impl Row {
+    pub const HEADER: [&'static str; 22] = [
+        "step",
+        "time_s",
+        "wall_gap_um",
+        "area_um2",
+        "phi",
+        "p_top_pa",
+        "p_bottom_pa",
+        "contacts",
+        "wall_contacts",
+        "e_kinetic_erg",
+        "e_rotational_erg",
+        "e_normal_erg",
+        "e_tangential_erg",
+        "d_breaking_erg",
+        "d_forming_erg",
+        "d_damping_erg",
+        "d_rolling_erg",
+        "d_sliding_erg",
+        "d_twisting_erg",
+        "d_walls_erg",
+        "wall_work_erg",
+        "energy_balance_erg",
+    ];
+
+    pub fn values(&self) -> Vec<f64> {
+        let e = &self.energy;
+        let d = &e.dissipated;
+        vec![
+            self.step as f64,
+            self.time,
+            self.wall_gap * 1e4,
+            self.area * 1e8,
+            self.phi,
+            self.p_top,
+            self.p_bottom,
+            self.contacts as f64,
+            self.wall_contacts as f64,
+            e.kinetic,
+            e.rotational,
+            e.normal_potential,
+            e.tangential_potential,
+            d.breaking,
+            d.forming,
+            d.damping,
+            d.rolling,
+            d.sliding,
+            d.twisting,
+            d.walls,
+            e.wall_work,
+            e.balance(),
+        ]
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StopReason {
+    FillingFactor,
+    Pressure,
+    MaxSteps,
+}
+
+impl fmt::Display for StopReason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            StopReason::FillingFactor => "filling factor reached phi_stop",
+            StopReason::Pressure => "pressure reached pressure_stop_pa",
+            StopReason::MaxSteps => "max_steps reached",
+        })
+    }
+}
+
+#[derive(Debug)]
+pub enum RunError {
+    Setup(SetupError),
+    Engine(EngineError),
+    Output(String),
+}
+
+impl fmt::Display for RunError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            RunError::Setup(e) => write!(f, "{e}"),
+            RunError::Engine(e) => write!(f, "{e}"),
+            RunError::Output(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for RunError {}
+
+impl From<EngineError> for RunError {
+    fn from(e: EngineError) -> Self {
+        RunError::Engine(e)
+    }
+}
+
+/// What the run reports as it goes.
+pub enum Event<'a> {
+    Row(&'a Row),
+    /// Filling-factor profile in slabs one diameter thick: (slab centre height [cm], φ).
+    Profile(&'a Row, &'a [(f64, f64)]),
+}
+
+pub struct Compression {
+    pub kind: ExperimentKind,
+    pub engine: CpuEngine,
+    pub sample: Sample,
+    average_steps: u64,
+    phi_stop: f64,
+    pressure_stop: f64,
+    max_steps: u64,
+    profile_every: u64,
+    rows: u64,
+}
+
+impl Compression {
+    pub fn new(config: &Config) -> Result<Self, RunError> {
+        let law = config.contact_law();
+        let sample = build_sample(config, &law).map_err(RunError::Setup)?;
+        let walls = build_walls(config, &law, &sample).map_err(RunError::Setup)?;
+        let engine = CpuEngine::new(
+            law,
+            config.dt(),
+            monomers_of(&sample),
+            walls,
+            config.integration.pair_slots,
+            config.integration.wall_slots,
+        )?;
+        let e = &config.experiment;
+        Ok(Compression {
+            kind: e.kind,
+            engine,
+            sample,
+            average_steps: e.average_steps,
+            phi_stop: e.phi_stop,
+            pressure_stop: e.pressure_stop_pa,
+            max_steps: e.max_steps,
+            profile_every: e.profile_every_rows,
+            rows: 0,
+        })
+    }
+
+    /// Cross-section for φ and P: the box base (omni) or the projected area (uni).
+    pub fn area(&self) -> f64 {
+        match self.kind {
+            ExperimentKind::Omni => self.sample.footprint.area(),
+            _ => projected_area(&self.engine.monomers.position, self.engine.law.radius),
+        }
+    }
+
+    pub fn wall_gap(&self) -> f64 {
+        let w = &self.engine.walls;
+        (w[TOP_WALL].point - w[0].point).dot(w[0].normal)
+    }
+
+    fn measure(&self, p_top: f64, p_bottom: f64) -> Row {
+        let e = &self.engine;
+        let area = self.area();
+        let gap = self.wall_gap();
+        let v_mono = 4.0 / 3.0 * std::f64::consts::PI * e.law.radius.powi(3);
+        // dyn/cm² → Pa
+        Row {
+            step: e.step,
+            time: e.time,
+            wall_gap: gap,
+            area,
+            phi: filling_factor(e.monomers.len(), v_mono, area, gap),
+            p_top: 0.1 * p_top / area,
+            p_bottom: 0.1 * p_bottom / area,
+            contacts: e.contacts.pair_contact_count(),
+            wall_contacts: e.contacts.wall_contact_count(),
+            energy: e.energy(),
+        }
+    }
+
+    pub fn profile(&self) -> Vec<(f64, f64)> {
+        let e = &self.engine;
+        let r = e.law.radius;
+        let bottom = e.walls[0].point.z;
+        let top = e.walls[TOP_WALL].point.z;
+        slab_profile(
+            e.monomers.position.iter().map(|p| p.z),
+            r,
+            self.area(),
+            bottom,
+            top,
+            2.0 * r,
+        )
+    }
+
+    /// Runs until a stop rule fires, reporting rows (and profiles) through `report`.
+    pub fn run(
+        &mut self,
+        report: &mut dyn FnMut(Event) -> Result<(), String>,
+    ) -> Result<StopReason, RunError> {
+        let first = self.measure(f64::NAN, f64::NAN);
+        report(Event::Row(&first)).map_err(RunError::Output)?;
+        report(Event::Profile(&first, &self.profile())).map_err(RunError::Output)?;
+        loop {
+            let (mut top, mut bottom) = (0.0, 0.0);
+            for _ in 0..self.average_steps {
+                self.engine.step()?;
+                let w = &self.engine.walls;
+                top += self.engine.wall_force[TOP_WALL].dot(w[TOP_WALL].normal);
+                bottom += self.engine.wall_force[0].dot(w[0].normal);
+            }
+            let n = self.average_steps as f64;
+            let row = self.measure(top / n, bottom / n);
+            self.rows += 1;
+            report(Event::Row(&row)).map_err(RunError::Output)?;
+            let stop = if row.phi >= self.phi_stop {
+                Some(StopReason::FillingFactor)
+            } else if row.p_top >= self.pressure_stop {
+                Some(StopReason::Pressure)
+            } else if self.engine.step >= self.max_steps {
+                Some(StopReason::MaxSteps)
+            } else {
+                None
+            };
+            if stop.is_some() || (self.profile_every > 0 && self.rows % self.profile_every == 0) {
+                report(Event::Profile(&row, &self.profile())).map_err(RunError::Output)?;
+            }
+            if let Some(reason) = stop {
+                return Ok(reason);
+            }
+        }
+    }
+}
