@@ -248,7 +248,9 @@ impl Compression {
             } else {
                 None
             };
-            if stop.is_some() || (self.profile_every > 0 && self.rows % self.profile_every == 0) {
+            if stop.is_some()
+                || (self.profile_every > 0 && self.rows.is_multiple_of(self.profile_every))
+            {
                 report(Event::Profile(&row, &self.profile())).map_err(RunError::Output)?;
             }
             if let Some(reason) = stop {
