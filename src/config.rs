@@ -396,6 +396,16 @@ impl Config {
             );
         }
         let e = &self.experiment;
+        if e.kind == ExperimentKind::Omni
+            && s.source == SampleSource::Rbd
+            && s.footprint == FootprintKind::Cylinder
+        {
+            c.fail(
+                "[sample] footprint",
+                "\"cylinder\"",
+                "the omnidirectional box (kind = \"omni\") needs footprint = \"box\"",
+            );
+        }
         c.range(
             "[experiment] wall_speed_m_s",
             e.wall_speed_m_s,
