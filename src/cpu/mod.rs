@@ -103,7 +103,12 @@ pub struct CpuEngine {
     wall_damping: Vec<DVec3>,
     pub step: u64,
     pub time: f64,
+    /// Wall-clock seconds spent in each pass, in [`PASS_NAMES`] order.
+    pub pass_seconds: [f64; 5],
 }
+
+/// The passes of one step, in order.
+pub const PASS_NAMES: [&str; 5] = ["integrate", "neighbours", "contacts", "forces", "walls"];
 
 impl CpuEngine {
     /// Builds the engine with synchronised initial velocities `monomers.velocity` (time 0):
@@ -132,6 +137,7 @@ impl CpuEngine {
             wall_damping: vec![DVec3::ZERO; nw],
             step: 0,
             time: 0.0,
+            pass_seconds: [0.0; 5],
         };
         engine.neighbours.refresh(&engine.monomers.position);
         contacts::update_contacts(
@@ -161,6 +167,7 @@ impl CpuEngine {
     }
 
     fn compute_forces(&mut self) {
+        let clock = std::time::Instant::now();
         forces::pair_forces(
             &self.law,
             self.dt,
@@ -168,6 +175,8 @@ impl CpuEngine {
             &mut self.contacts,
             &mut self.tally,
         );
+        self.pass_seconds[3] += clock.elapsed().as_secs_f64();
+        let clock = std::time::Instant::now();
         walls::wall_forces(
             &self.law,
             self.dt,
@@ -178,11 +187,13 @@ impl CpuEngine {
             &mut self.wall_force,
             &mut self.wall_damping,
         );
+        self.pass_seconds[4] += clock.elapsed().as_secs_f64();
     }
 
     /// Advances one time step.
     pub fn step(&mut self) -> Result<(), EngineError> {
         let (im, ii) = self.inverse_mass_inertia();
+        let clock = std::time::Instant::now();
         integrate::integrate(
             self.dt,
             im,
@@ -191,7 +202,11 @@ impl CpuEngine {
             &mut self.contacts,
             &mut self.walls,
         );
+        self.pass_seconds[0] += clock.elapsed().as_secs_f64();
+        let clock = std::time::Instant::now();
         self.neighbours.refresh(&self.monomers.position);
+        self.pass_seconds[1] += clock.elapsed().as_secs_f64();
+        let clock = std::time::Instant::now();
         contacts::update_contacts(
             &self.law,
             self.dt,
@@ -201,6 +216,7 @@ impl CpuEngine {
             &mut self.contacts,
             &mut self.tally,
         )?;
+        self.pass_seconds[2] += clock.elapsed().as_secs_f64();
         let damping_before = self.monomers.damping_force.clone();
         let wall_force_before = self.wall_force.clone();
         let wall_damping_before = self.wall_damping.clone();
