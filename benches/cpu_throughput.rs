@@ -12,9 +12,16 @@ use std::time::Instant;
 fn main() {
     let sizes: Vec<usize> = std::env::var("DUSTDEM_BENCH_SIZES")
         .ok()
-        .map(|s| s.split(',').map(|x| x.trim().parse().expect("sizes are integers")).collect())
+        .map(|s| {
+            s.split(',')
+                .map(|x| x.trim().parse().expect("sizes are integers"))
+                .collect()
+        })
         .unwrap_or_else(|| vec![1_000, 10_000, 100_000]);
-    println!("| N | steps | contacts/monomer | particle-steps/s | µs/step | {} |", PASS_NAMES.join(" % | ") + " %");
+    println!(
+        "| N | steps | contacts/monomer | particle-steps/s | µs/step | {} |",
+        PASS_NAMES.join(" % | ") + " %"
+    );
     println!("|---|---|---|---|---|{}", "---|".repeat(PASS_NAMES.len()));
     for n in sizes {
         let text = format!(

@@ -132,8 +132,21 @@ fn fit(curve: PathBuf, phi1: Option<f64>, phi2: Option<f64>, p_min: f64) -> Resu
     };
     let r = fit_eq13(&p, &phi, None, &options).map_err(|e| format!("{}: {e}", curve.display()))?;
     println!("Eq. 13 fit to {} points of {}:", p.len(), curve.display());
-    println!("  phi1  = {:.5} ± {:.5}", r.params.phi1, r.std_err.phi1);
-    println!("  phi2  = {:.5} ± {:.5}", r.params.phi2, r.std_err.phi2);
+    let show = |fixed: bool, value: f64, err: f64| {
+        if fixed {
+            format!("{value:.5} (fixed)")
+        } else {
+            format!("{value:.5} ± {err:.5}")
+        }
+    };
+    println!(
+        "  phi1  = {}",
+        show(phi1.is_some(), r.params.phi1, r.std_err.phi1)
+    );
+    println!(
+        "  phi2  = {}",
+        show(phi2.is_some(), r.params.phi2, r.std_err.phi2)
+    );
     println!("  p_m   = {:.5e} ± {:.2e} Pa", r.params.p_m, r.std_err.p_m);
     println!("  Delta = {:.5} ± {:.5}", r.params.delta, r.std_err.delta);
     println!(

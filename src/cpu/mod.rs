@@ -44,7 +44,7 @@ impl fmt::Display for EngineError {
             } => write!(
                 f,
                 "monomer {monomer} needs more than {limit} {kind} contact slots; raise \
-                 [engine] {} in the config",
+                 [integration] {} in the config",
                 if *kind == "monomer-wall" {
                     "wall_slots"
                 } else {
