@@ -8,6 +8,7 @@ pub mod analysis;
 pub mod config;
 pub mod cpu;
 pub mod experiment;
+pub mod gpu;
 pub mod io;
 pub mod job;
 pub mod material;

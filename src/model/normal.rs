@@ -49,8 +49,8 @@ pub fn jkr_force(x: f64, f_c: f64) -> f64 {
     4.0 * f_c * (x * x * x - x * x.sqrt())
 }
 
-/// ∫F dδ from x₀ (zero overlap) to x along the branch, in units of F_c δ₀ before scaling.
-fn potential_shape(x: f64) -> f64 {
+/// ∫F dδ along the branch up to x, in units of F_c δ₀, up to a constant.
+pub fn potential_shape(x: f64) -> f64 {
     let x2 = x * x;
     4.0 * (1.2 * x2 * x2 * x - 2.0 * x2 * x * x.sqrt() + 0.5 * x2)
 }

@@ -1,0 +1,350 @@
+//! Adapter and device: what the simulation needs of the GPU, checked once at start-up.
+//!
+//! The state is f64 throughout (overlaps of 10⁻¹⁰ cm inside boxes of 10⁻² cm do not survive
+//! f32), so an adapter without `SHADER_F64` is unusable rather than a slower fallback. Limits are
+//! requested as the adapter offers them: wgpu's defaults (8 storage buffers per stage,
+//! 128 MiB per binding) are WebGPU's lowest common denominator, and a Vulkan adapter usually
+//! has more.
+
+use super::shader::FloatMode;
+use std::fmt;
+
+/// Features every pass may rely on. Matches [`super::shader::CAPABILITIES`].
+pub const REQUIRED_FEATURES: wgpu::Features = wgpu::Features::SHADER_F64;
+
+/// Asked for when a Vulkan adapter offers it: SPIR-V passthrough carries the shaders whose
+/// float operations are marked `NoContraction` ([`FloatMode::Exact`]).
+pub const EXACT_FLOAT_FEATURES: wgpu::Features = wgpu::Features::PASSTHROUGH_SHADERS;
+
+/// Limits below which the passes cannot be laid out at all.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Requirements {
+    /// Storage buffers one compute pass binds at once.
+    pub min_storage_buffers_per_shader_stage: u32,
+    /// Bytes of the largest array bound as one storage binding [B].
+    pub min_storage_buffer_binding_size: u64,
+}
+
+impl Default for Requirements {
+    /// WebGPU's guaranteed minimums: 8 storage buffers per stage, 128 MiB per binding.
+    fn default() -> Self {
+        Requirements {
+            min_storage_buffers_per_shader_stage: 8,
+            min_storage_buffer_binding_size: 128 << 20,
+        }
+    }
+}
+
+/// Why no device could be made.
+#[derive(Debug)]
+pub enum ContextError {
+    /// The Vulkan loader found no adapter at all.
+    NoAdapter,
+    /// Adapters exist, none fits; one line per adapter says why.
+    NoSuitableAdapter(Vec<String>),
+    RequestDevice {
+        adapter: String,
+        error: wgpu::RequestDeviceError,
+    },
+}
+
+impl fmt::Display for ContextError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ContextError::NoAdapter => write!(
+                f,
+                "no Vulkan adapter found (for a software one: apt-get install mesa-vulkan-drivers \
+                 libvulkan1)"
+            ),
+            ContextError::NoSuitableAdapter(reasons) => {
+                write!(f, "no adapter has what the simulation needs:")?;
+                for r in reasons {
+                    write!(f, "\n  {r}")?;
+                }
+                Ok(())
+            }
+            ContextError::RequestDevice { adapter, error } => {
+                write!(f, "{adapter}: device request failed: {error}")
+            }
+        }
+    }
+}
+
+impl std::error::Error for ContextError {}
+
+/// What an adapter is and offers, for logs and run metadata.
+#[derive(Clone, Debug)]
+pub struct AdapterSummary {
+    pub name: String,
+    pub backend: wgpu::Backend,
+    pub device_type: wgpu::DeviceType,
+    pub driver: String,
+    pub driver_info: String,
+    pub features: wgpu::Features,
+    pub limits: wgpu::Limits,
+}
+
+/// The summary of `adapter`.
+pub fn adapter_summary(adapter: &wgpu::Adapter) -> AdapterSummary {
+    let info = adapter.get_info();
+    AdapterSummary {
+        name: info.name,
+        backend: info.backend,
+        device_type: info.device_type,
+        driver: info.driver,
+        driver_info: info.driver_info,
+        features: adapter.features(),
+        limits: adapter.limits(),
+    }
+}
+
+impl AdapterSummary {
+    /// The float mode a device on this adapter gets.
+    pub fn float_mode(&self) -> FloatMode {
+        if self.backend == wgpu::Backend::Vulkan && self.features.contains(EXACT_FLOAT_FEATURES) {
+            FloatMode::Exact
+        } else {
+            FloatMode::Relaxed
+        }
+    }
+}
+
+impl fmt::Display for AdapterSummary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let l = &self.limits;
+        let mib = |b: u64| b as f64 / f64::from(1u32 << 20);
+        writeln!(
+            f,
+            "{} ({:?}, {:?}; driver {} {})",
+            self.name, self.backend, self.device_type, self.driver, self.driver_info
+        )?;
+        writeln!(
+            f,
+            "  f64 in shaders: {}",
+            if self.features.contains(wgpu::Features::SHADER_F64) {
+                "yes"
+            } else {
+                "no"
+            }
+        )?;
+        writeln!(
+            f,
+            "  float mode: {:?}{}",
+            self.float_mode(),
+            match self.float_mode() {
+                FloatMode::Exact => " (SPIR-V passthrough, NoContraction: bit-exact f64)",
+                FloatMode::Relaxed => " (WGSL: the driver may fuse and reassociate)",
+            }
+        )?;
+        writeln!(f, "  features: {:?}", self.features)?;
+        writeln!(
+            f,
+            "  storage buffers per stage {}, storage binding {} B ({:.1} MiB), buffer {:.0} MiB, \
+             uniform binding {:.0} KiB",
+            l.max_storage_buffers_per_shader_stage,
+            l.max_storage_buffer_binding_size,
+            mib(l.max_storage_buffer_binding_size),
+            mib(l.max_buffer_size),
+            l.max_uniform_buffer_binding_size as f64 / 1024.0
+        )?;
+        write!(
+            f,
+            "  workgroup ≤ {} invocations ({}×{}×{}), ≤ {} workgroups per dimension, \
+             {} B workgroup storage, bind groups {}, immediates {} B",
+            l.max_compute_invocations_per_workgroup,
+            l.max_compute_workgroup_size_x,
+            l.max_compute_workgroup_size_y,
+            l.max_compute_workgroup_size_z,
+            l.max_compute_workgroups_per_dimension,
+            l.max_compute_workgroup_storage_size,
+            l.max_bind_groups,
+            l.max_immediate_size
+        )
+    }
+}
+
+/// Adapter, device and queue of one simulation.
+#[derive(Debug)]
+pub struct GpuContext {
+    pub adapter: wgpu::Adapter,
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    /// How shaders reach this device; `Exact` wherever the adapter allows it.
+    pub float_mode: FloatMode,
+}
+
+impl GpuContext {
+    /// Picks the best adapter with `SHADER_F64` and the required limits, and makes a device
+    /// with every limit the adapter offers.
+    pub fn new(requirements: &Requirements) -> Result<Self, ContextError> {
+        pollster::block_on(Self::new_async(requirements))
+    }
+
+    pub async fn new_async(requirements: &Requirements) -> Result<Self, ContextError> {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle());
+        let adapters = instance.enumerate_adapters(wgpu::Backends::all()).await;
+        if adapters.is_empty() {
+            return Err(ContextError::NoAdapter);
+        }
+        let mut reasons = Vec::new();
+        let mut best: Option<wgpu::Adapter> = None;
+        for adapter in adapters {
+            let summary = adapter_summary(&adapter);
+            let unfit = unfit(&summary, requirements);
+            if !unfit.is_empty() {
+                reasons.push(format!("{}: {}", summary.name, unfit.join("; ")));
+                continue;
+            }
+            let better = best
+                .as_ref()
+                .is_none_or(|b| rank(summary.device_type) < rank(b.get_info().device_type));
+            if better {
+                best = Some(adapter);
+            }
+        }
+        let adapter = best.ok_or(ContextError::NoSuitableAdapter(reasons))?;
+        let float_mode = adapter_summary(&adapter).float_mode();
+        let features = match float_mode {
+            FloatMode::Exact => REQUIRED_FEATURES | EXACT_FLOAT_FEATURES,
+            FloatMode::Relaxed => REQUIRED_FEATURES,
+        };
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("dustdem"),
+                required_features: features,
+                required_limits: adapter.limits(),
+                ..Default::default()
+            })
+            .await
+            .map_err(|error| ContextError::RequestDevice {
+                adapter: adapter.get_info().name,
+                error,
+            })?;
+        Ok(GpuContext {
+            adapter,
+            device,
+            queue,
+            float_mode,
+        })
+    }
+
+    pub fn summary(&self) -> AdapterSummary {
+        adapter_summary(&self.adapter)
+    }
+}
+
+/// What `adapter` lacks, one phrase per missing item (empty when it fits).
+fn unfit(adapter: &AdapterSummary, requirements: &Requirements) -> Vec<String> {
+    let mut missing = Vec::new();
+    if !adapter.features.contains(REQUIRED_FEATURES) {
+        missing.push(format!(
+            "lacks {:?} (f64 in shaders)",
+            REQUIRED_FEATURES - adapter.features
+        ));
+    }
+    let l = &adapter.limits;
+    if l.max_storage_buffers_per_shader_stage < requirements.min_storage_buffers_per_shader_stage {
+        missing.push(format!(
+            "{} storage buffers per shader stage, needs {}",
+            l.max_storage_buffers_per_shader_stage,
+            requirements.min_storage_buffers_per_shader_stage
+        ));
+    }
+    if l.max_storage_buffer_binding_size < requirements.min_storage_buffer_binding_size {
+        missing.push(format!(
+            "storage bindings of {} B, needs {} B",
+            l.max_storage_buffer_binding_size, requirements.min_storage_buffer_binding_size
+        ));
+    }
+    missing
+}
+
+/// Preference among fitting adapters: real GPUs before software rasterisers (the float mode
+/// does not enter: every Vulkan adapter offers passthrough).
+fn rank(device_type: wgpu::DeviceType) -> u8 {
+    match device_type {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Cpu => 3,
+        wgpu::DeviceType::Other => 4,
+    }
+}
+
+/// For GPU tests: a context, or `None` after a notice when none can be made and `CI` is unset.
+///
+/// CI installs lavapipe, so there a missing or unfit adapter is a failure: a test that skipped
+/// silently would pass without having run.
+pub fn context_for_tests() -> Option<GpuContext> {
+    match GpuContext::new(&Requirements::default()) {
+        Ok(context) => Some(context),
+        Err(e) if std::env::var_os("CI").is_some() => {
+            panic!("CI is set, so a GPU is expected (lavapipe), but: {e}")
+        }
+        Err(e) => {
+            eprintln!("notice: GPU test not run: {e}");
+            None
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn summary(features: wgpu::Features, limits: wgpu::Limits) -> AdapterSummary {
+        AdapterSummary {
+            name: "test".into(),
+            backend: wgpu::Backend::Vulkan,
+            device_type: wgpu::DeviceType::Cpu,
+            driver: String::new(),
+            driver_info: String::new(),
+            features,
+            limits,
+        }
+    }
+
+    #[test]
+    fn an_adapter_without_f64_is_unfit_and_says_so() {
+        let why = unfit(
+            &summary(wgpu::Features::empty(), wgpu::Limits::default()),
+            &Requirements::default(),
+        );
+        assert_eq!(why.len(), 1);
+        assert!(why[0].contains("SHADER_F64"), "{why:?}");
+        let fits = unfit(
+            &summary(wgpu::Features::SHADER_F64, wgpu::Limits::default()),
+            &Requirements::default(),
+        );
+        assert!(fits.is_empty(), "{fits:?}");
+    }
+
+    #[test]
+    fn small_limits_are_named() {
+        let needs = Requirements {
+            min_storage_buffers_per_shader_stage: 16,
+            min_storage_buffer_binding_size: 1 << 30,
+        };
+        let why = unfit(
+            &summary(wgpu::Features::SHADER_F64, wgpu::Limits::default()),
+            &needs,
+        )
+        .join("; ");
+        assert!(
+            why.contains("storage buffers per shader stage") && why.contains("storage bindings"),
+            "{why}"
+        );
+    }
+
+    /// Prints what the adapter offers; fails under CI when there is none.
+    #[test]
+    fn adapter_summary_of_the_test_adapter() {
+        let Some(ctx) = context_for_tests() else {
+            return;
+        };
+        let summary = ctx.summary();
+        println!("{summary}");
+        assert!(summary.features.contains(REQUIRED_FEATURES));
+        assert_eq!(ctx.device.limits(), summary.limits);
+    }
+}

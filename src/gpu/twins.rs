@@ -1,0 +1,220 @@
+//! "One definition, two twins": each `shaders/shared/<m>.wgsl` mirrors `src/model/<m>.rs`
+//! function for function and constant for constant. These tests hold the two in step without a
+//! GPU; the probe test (tests/contact_law_probe.rs) holds their results in step on one.
+
+use super::layout;
+use super::shader::{assemble, Source, SHARED};
+use crate::model::normal;
+use std::collections::BTreeSet;
+
+/// Shared modules with no file in `src/model/`: `math` mirrors glam's DVec3 methods.
+const NOT_IN_MODEL: &[&str] = &["math"];
+
+/// Names of the functions declared at the start of a line as `<prefix>name(`.
+fn declared(text: &str, prefix: &str) -> BTreeSet<String> {
+    text.lines()
+        .filter_map(|l| l.strip_prefix(prefix))
+        .filter_map(|rest| rest.split_once('('))
+        .map(|(name, _)| name.trim().to_string())
+        .collect()
+}
+
+/// Parameter names, in order, of the first `fn name(` in `text`.
+fn parameters(text: &str, name: &str) -> Option<Vec<String>> {
+    let open = format!("fn {name}(");
+    let start = text.find(&open)? + open.len();
+    let mut names = Vec::new();
+    let mut depth = 0;
+    let mut from = start;
+    for (i, ch) in text[start..].char_indices() {
+        let at = start + i;
+        match ch {
+            '(' | '<' => depth += 1,
+            ')' if depth == 0 => {
+                names.push(&text[from..at]);
+                break;
+            }
+            ')' | '>' => depth -= 1,
+            ',' if depth == 0 => {
+                names.push(&text[from..at]);
+                from = at + 1;
+            }
+            _ => {}
+        }
+    }
+    Some(
+        names
+            .into_iter()
+            .filter_map(|p| p.split(':').next())
+            .map(|p| p.trim().to_string())
+            .filter(|p| !p.is_empty())
+            .collect(),
+    )
+}
+
+fn rust_model_file(module: &str) -> String {
+    let path = format!("{}/src/model/{module}.rs", env!("CARGO_MANIFEST_DIR"));
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"))
+}
+
+fn modelled() -> impl Iterator<Item = &'static Source> {
+    SHARED.iter().filter(|m| !NOT_IN_MODEL.contains(&m.name()))
+}
+
+#[test]
+fn every_wgsl_function_has_a_rust_twin() {
+    let mut missing = Vec::new();
+    for module in modelled() {
+        let rust = rust_model_file(module.name());
+        let public = declared(&rust, "pub fn ");
+        for name in declared(module.text, "fn ") {
+            if !public.contains(&name) {
+                missing.push(format!(
+                    "{}: fn {name} has no `pub fn {name}(` in src/model/{}.rs",
+                    module.path,
+                    module.name()
+                ));
+            }
+        }
+    }
+    assert!(missing.is_empty(), "{}", missing.join("\n"));
+}
+
+#[test]
+fn every_rust_function_has_a_wgsl_twin() {
+    let mut missing = Vec::new();
+    for module in modelled() {
+        let wgsl = declared(module.text, "fn ");
+        let rust = rust_model_file(module.name());
+        for name in declared(&rust, "pub fn ").union(&declared(&rust, "fn ")) {
+            if !wgsl.contains(name) {
+                missing.push(format!(
+                    "src/model/{}.rs: fn {name} has no twin in {}",
+                    module.name(),
+                    module.path
+                ));
+            }
+        }
+    }
+    assert!(missing.is_empty(), "{}", missing.join("\n"));
+}
+
+#[test]
+fn twins_take_the_same_parameters_in_the_same_order() {
+    let mut differ = Vec::new();
+    for module in modelled() {
+        let rust = rust_model_file(module.name());
+        for name in declared(module.text, "fn ") {
+            let wgsl = parameters(module.text, &name);
+            let cpu = parameters(&rust, &name);
+            if wgsl != cpu {
+                differ.push(format!(
+                    "{}: fn {name}{:?} vs src/model/{}.rs: {:?}",
+                    module.path,
+                    wgsl.unwrap_or_default(),
+                    module.name(),
+                    cpu.unwrap_or_default()
+                ));
+            }
+        }
+    }
+    assert!(differ.is_empty(), "{}", differ.join("\n"));
+}
+
+#[test]
+fn parameter_lists_are_read_across_lines_and_generics() {
+    let text = "pub fn f(\n    a: DVec3,\n    b: Option<(f64, f64)>,\n    c: vec3<f64>,\n) -> (f64, f64) {";
+    assert_eq!(parameters(text, "f").unwrap(), ["a", "b", "c"]);
+    assert_eq!(
+        parameters("fn g() -> f64", "g").unwrap(),
+        Vec::<String>::new()
+    );
+    assert_eq!(parameters("fn g() -> f64", "h"), None);
+}
+
+#[test]
+fn every_model_file_has_a_shared_module() {
+    let dir = format!("{}/src/model", env!("CARGO_MANIFEST_DIR"));
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let file = entry.unwrap().file_name().into_string().unwrap();
+        let Some(name) = file.strip_suffix(".rs") else {
+            continue;
+        };
+        if name != "mod" {
+            assert!(
+                SHARED.iter().any(|m| m.name() == name),
+                "src/model/{file} has no shaders/shared/{name}.wgsl"
+            );
+        }
+    }
+}
+
+fn module(name: &str) -> naga::Module {
+    let source = SHARED.iter().find(|m| m.name() == name).unwrap();
+    let (module, _) = assemble(source, SHARED).unwrap().validate().unwrap();
+    module
+}
+
+fn constant(module: &naga::Module, name: &str) -> naga::Literal {
+    let (_, c) = module
+        .constants
+        .iter()
+        .find(|(_, c)| c.name.as_deref() == Some(name))
+        .unwrap_or_else(|| panic!("no WGSL const {name}"));
+    match module.global_expressions[c.init] {
+        naga::Expression::Literal(literal) => literal,
+        ref other => panic!("const {name} is not a literal: {other:?}"),
+    }
+}
+
+#[test]
+fn normal_constants_equal_their_rust_twins_to_the_bit() {
+    let m = module("normal");
+    for (name, rust) in [
+        ("X_MIN", normal::X_MIN),
+        ("Y_MIN", normal::Y_MIN),
+        ("D_MIN", normal::D_MIN),
+        ("X_AT_ZERO_OVERLAP", normal::X_AT_ZERO_OVERLAP),
+    ] {
+        match constant(&m, name) {
+            naga::Literal::F64(v) => assert_eq!(
+                v.to_bits(),
+                rust.to_bits(),
+                "{name}: WGSL {v:e} vs Rust {rust:e}"
+            ),
+            other => panic!("{name} is not an f64 literal: {other:?}"),
+        }
+    }
+}
+
+#[test]
+fn damping_tags_and_layout_match_the_host_encoding() {
+    let m = module("damping");
+    for (name, rust) in [
+        ("DAMPING_NONE", layout::DAMPING_NONE),
+        ("DAMPING_VISCOUS", layout::DAMPING_VISCOUS),
+        ("DAMPING_VISCOELASTIC", layout::DAMPING_VISCOELASTIC),
+    ] {
+        assert_eq!(constant(&m, name), naga::Literal::U32(rust), "{name}");
+    }
+    let (_, ty) = m
+        .types
+        .iter()
+        .find(|(_, t)| t.name.as_deref() == Some("Damping"))
+        .expect("WGSL struct Damping");
+    let naga::TypeInner::Struct { ref members, span } = ty.inner else {
+        panic!("Damping is not a struct");
+    };
+    let offsets: Vec<_> = members
+        .iter()
+        .map(|m| (m.name.clone().unwrap(), m.offset))
+        .collect();
+    assert_eq!(
+        offsets,
+        [("kind".to_string(), 0), ("value".to_string(), 8)],
+        "WGSL Damping fields"
+    );
+    assert_eq!(span as usize, std::mem::size_of::<layout::GpuDamping>());
+    assert_eq!(std::mem::offset_of!(layout::GpuDamping, kind), 0);
+    assert_eq!(std::mem::offset_of!(layout::GpuDamping, value), 8);
+}
