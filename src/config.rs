@@ -202,12 +202,33 @@ impl Default for IntegrationConfig {
 pub struct OutputConfig {
     /// Directory for the results (relative paths are relative to the working directory).
     pub dir: PathBuf,
+    /// Write `checkpoint.bin` every this many rows (0: by time only).
+    pub checkpoint_every_rows: u64,
+    /// Write `checkpoint.bin` at least this often [minutes] (0: by rows only).
+    pub checkpoint_minutes: f64,
+    /// Snapshot format for ParaView (`vtu`), OVITO (`lammps`), both, or `none`.
+    pub snapshot_format: SnapshotChoice,
+    /// A snapshot every this many rows (0: at the start and the end only).
+    pub snapshot_every_rows: u64,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SnapshotChoice {
+    Vtu,
+    Lammps,
+    Both,
+    None,
 }
 
 impl Default for OutputConfig {
     fn default() -> Self {
         OutputConfig {
             dir: PathBuf::from("runs/omni_quick"),
+            checkpoint_every_rows: 0,
+            checkpoint_minutes: 10.0,
+            snapshot_format: SnapshotChoice::Vtu,
+            snapshot_every_rows: 0,
         }
     }
 }
@@ -437,6 +458,10 @@ impl Config {
             0.0,
             1e4,
             "> 0 and < 10000 m/s",
+        );
+        c.non_negative(
+            "[output] checkpoint_minutes",
+            self.output.checkpoint_minutes,
         );
         let i = &self.integration;
         c.positive("[integration] dt_ns", i.dt_ns);

@@ -6,13 +6,16 @@ use dustdem::config::{stable_time_step, Config};
 use dustdem::experiment::collision::analytic_sticking_speed;
 use dustdem::experiment::setup::build_sample;
 use dustdem::io::csv::read_csv;
-use dustdem::job::{run_job, DEFAULT_CONFIG};
+use dustdem::job::{resume_job, run_job, JobOptions, JobSummary, Progress, DEFAULT_CONFIG};
 use dustdem::material::{
     chokshi_sticking_velocity, normal_period, rolling_energy_quarter_turn, sliding_period, Derived,
 };
 use dustdem::sample::{interior_filling_factor, Footprint};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 
 #[derive(Parser)]
 #[command(
@@ -33,9 +36,14 @@ enum Command {
         /// Output directory (overrides [output] dir).
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Print only the summary.
-        #[arg(long)]
-        quiet: bool,
+        #[command(flatten)]
+        report: ReportArgs,
+    },
+    /// Continue a run from its checkpoint, appending to its outputs.
+    Resume {
+        checkpoint: PathBuf,
+        #[command(flatten)]
+        report: ReportArgs,
     },
     /// Generate the sample a config describes and write it to a sample file.
     Generate {
@@ -60,22 +68,74 @@ enum Command {
     Info { config: Option<PathBuf> },
 }
 
-fn load_config(path: Option<&Path>) -> Result<Config, String> {
-    match path {
-        Some(p) => Config::load(p).map_err(|e| e.to_string()),
-        None => Config::parse(DEFAULT_CONFIG, "built-in omni_quick").map_err(|e| e.to_string()),
+#[derive(clap::Args)]
+struct ReportArgs {
+    /// Print only the summary.
+    #[arg(long)]
+    quiet: bool,
+    /// One `key=value` line per row on stderr instead of a progress bar (for scripts and
+    /// cluster logs).
+    #[arg(long)]
+    log_lines: bool,
+}
+
+/// Shows progress as a bar (on a terminal), as machine-readable lines, or not at all.
+struct Reporter {
+    bar: Option<ProgressBar>,
+    log_lines: bool,
+}
+
+impl Reporter {
+    fn new(args: &ReportArgs) -> Self {
+        let bar = (!args.quiet && !args.log_lines).then(|| {
+            let bar = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::stderr());
+            bar.set_style(
+                ProgressStyle::with_template("{bar:30} {percent:>3}% eta {eta} | {msg}")
+                    .expect("valid template"),
+            );
+            bar
+        });
+        Reporter {
+            bar,
+            log_lines: args.log_lines && !args.quiet,
+        }
+    }
+
+    fn report(&self, p: &Progress) {
+        let r = p.row;
+        if let Some(bar) = &self.bar {
+            bar.set_position((p.fraction * 1000.0) as u64);
+            bar.set_message(format!(
+                "step {} | {:.3e} steps/s | phi {:.4} | P {:.3e} Pa",
+                r.step, p.steps_per_second, r.phi, r.p_top
+            ));
+        }
+        if self.log_lines {
+            eprintln!(
+                "row step={} time_s={:e} phi={} p_top_pa={:e} p_bottom_pa={:e} contacts={} steps_per_s={:.4e} progress={:.4}",
+                r.step, r.time, r.phi, r.p_top, r.p_bottom, r.contacts, p.steps_per_second, p.fraction
+            );
+        }
+    }
+
+    fn finish(&self) {
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
+        }
     }
 }
 
-fn run(config: Option<PathBuf>, out: Option<PathBuf>, quiet: bool) -> Result<(), String> {
-    let config = load_config(config.as_deref())?;
-    let out_dir = out.unwrap_or_else(|| config.output.dir.clone());
-    let mut progress = |line: &str| {
-        if !quiet {
-            eprintln!("{line}");
-        }
-    };
-    let summary = run_job(&config, &out_dir, &mut progress).map_err(|e| e.to_string())?;
+/// SIGINT and SIGTERM raise this flag; the run checkpoints at the next row and stops.
+fn interrupt_flag() -> Arc<AtomicBool> {
+    let flag = Arc::new(AtomicBool::new(false));
+    for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+        // If a handler cannot be installed the run simply cannot be interrupted cleanly.
+        let _ = signal_hook::flag::register(signal, Arc::clone(&flag));
+    }
+    flag
+}
+
+fn print_summary(summary: &JobSummary) {
     for line in &summary.lines {
         println!("{line}");
     }
@@ -83,6 +143,42 @@ fn run(config: Option<PathBuf>, out: Option<PathBuf>, quiet: bool) -> Result<(),
     for f in &summary.files {
         println!("  {}", f.display());
     }
+}
+
+fn load_config(path: Option<&Path>) -> Result<Config, String> {
+    match path {
+        Some(p) => Config::load(p).map_err(|e| e.to_string()),
+        None => Config::parse(DEFAULT_CONFIG, "built-in omni_quick").map_err(|e| e.to_string()),
+    }
+}
+
+fn run(config: Option<PathBuf>, out: Option<PathBuf>, args: ReportArgs) -> Result<(), String> {
+    let config = load_config(config.as_deref())?;
+    let out_dir = out.unwrap_or_else(|| config.output.dir.clone());
+    let reporter = Reporter::new(&args);
+    let flag = interrupt_flag();
+    let mut progress = |p: &Progress| reporter.report(p);
+    let mut options = JobOptions {
+        progress: &mut progress,
+        interrupt: Some(&flag),
+    };
+    let result = run_job(&config, &out_dir, &mut options);
+    reporter.finish();
+    print_summary(&result.map_err(|e| e.to_string())?);
+    Ok(())
+}
+
+fn resume(checkpoint: PathBuf, args: ReportArgs) -> Result<(), String> {
+    let reporter = Reporter::new(&args);
+    let flag = interrupt_flag();
+    let mut progress = |p: &Progress| reporter.report(p);
+    let mut options = JobOptions {
+        progress: &mut progress,
+        interrupt: Some(&flag),
+    };
+    let result = resume_job(&checkpoint, &mut options);
+    reporter.finish();
+    print_summary(&result.map_err(|e| e.to_string())?);
     Ok(())
 }
 
@@ -216,7 +312,12 @@ fn info(config: Option<PathBuf>) -> Result<(), String> {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run { config, out, quiet } => run(config, out, quiet),
+        Command::Run {
+            config,
+            out,
+            report,
+        } => run(config, out, report),
+        Command::Resume { checkpoint, report } => resume(checkpoint, report),
         Command::Generate { config, out } => generate(config, out),
         Command::Fit {
             curve,

@@ -178,7 +178,7 @@ fn bad_configs_are_refused_with_a_clear_message() {
         ),
         ("omni_cylinder", &["cylinder", "box"]),
     ];
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad_configs");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad_inputs");
     let out_dir = scratch("bad");
     for (name, needles) in cases {
         let path = dir.join(format!("{name}.toml"));

@@ -29,7 +29,7 @@ fn unidirectional_run_uses_the_projected_cross_section() {
     assert!((last.phi - filling_factor(300, v, area, last.wall_gap)).abs() < 1e-15);
     // The projected area is smaller than the cylinder footprint for a porous sample, and the
     // plates approach at 2 m/s.
-    assert!(rows[0].area < run.sample.footprint.area());
+    assert!(rows[0].area < run.footprint.area());
     assert!((rows[0].wall_gap - last.wall_gap - 200.0 * 6000.0 * 0.3e-9).abs() < 1e-9);
 }
 
@@ -48,6 +48,37 @@ fn contact_slot_overflow_is_an_error_naming_the_setting() {
     let text = error.to_string();
     assert!(
         text.contains("more than 1 monomer-monomer contact slots") && text.contains("pair_slots"),
+        "{text}"
+    );
+}
+
+#[test]
+fn runaway_overlap_and_non_finite_state_are_caught() {
+    use dustdem::cpu::state::Monomers;
+    use dustdem::cpu::CpuEngine;
+    use glam::DVec3;
+    let law = Config::default().contact_law();
+    let r = law.radius;
+    let squeezed = Monomers::new(vec![DVec3::ZERO, DVec3::new(1.4 * r, 0.0, 0.0)]);
+    let engine = CpuEngine::new(law, 1e-10, squeezed, Vec::new(), 12, 3).unwrap();
+    let text = engine.check_state().unwrap_err().to_string();
+    assert!(
+        text.contains("runaway overlap at step 0: monomer 0 and monomer 1"),
+        "{text}"
+    );
+    let mut lost = CpuEngine::new(
+        law,
+        1e-10,
+        Monomers::new(vec![DVec3::ZERO, DVec3::X]),
+        Vec::new(),
+        12,
+        3,
+    )
+    .unwrap();
+    lost.monomers.velocity[1].y = f64::NAN;
+    let text = lost.check_state().unwrap_err().to_string();
+    assert!(
+        text.contains("non-finite position or velocity of monomer 1 at step 0"),
         "{text}"
     );
 }

@@ -92,6 +92,7 @@ pub fn update_contacts(
         if table.pair_count[iu] as usize >= table.pair_slots {
             return Err(EngineError::SlotOverflow {
                 kind: "monomer-monomer",
+                step: 0,
                 monomer: iu,
                 limit: table.pair_slots,
             });
@@ -117,6 +118,7 @@ pub fn update_contacts(
             if table.wall_count[i] as usize >= table.wall_slots {
                 return Err(EngineError::SlotOverflow {
                     kind: "monomer-wall",
+                    step: 0,
                     monomer: i,
                     limit: table.wall_slots,
                 });

@@ -25,12 +25,21 @@ pub const DEFAULT_WALL_SLOTS: usize = 3;
 pub enum EngineError {
     SlotOverflow {
         kind: &'static str,
+        step: u64,
         monomer: usize,
         limit: usize,
     },
     NonFinite {
         step: u64,
         monomer: usize,
+    },
+    /// Two monomers (or a monomer and a wall) overlap by more than half a radius: the time
+    /// step is far too large or the state is corrupt.
+    RunawayOverlap {
+        step: u64,
+        monomer: usize,
+        partner: String,
+        overlap: f64,
     },
 }
 
@@ -39,11 +48,12 @@ impl fmt::Display for EngineError {
         match self {
             EngineError::SlotOverflow {
                 kind,
+                step,
                 monomer,
                 limit,
             } => write!(
                 f,
-                "monomer {monomer} needs more than {limit} {kind} contact slots; raise \
+                "at step {step}, monomer {monomer} needs more than {limit} {kind} contact slots; raise \
                  [integration] {} in the config",
                 if *kind == "monomer-wall" {
                     "wall_slots"
@@ -55,6 +65,16 @@ impl fmt::Display for EngineError {
                 f,
                 "non-finite position or velocity of monomer {monomer} at step {step} \
                  (time step too large or overlapping monomers?)"
+            ),
+            EngineError::RunawayOverlap {
+                step,
+                monomer,
+                partner,
+                overlap,
+            } => write!(
+                f,
+                "runaway overlap at step {step}: monomer {monomer} and {partner} overlap by \
+                 {overlap:.3e} cm, more than half a radius (time step too large?)"
             ),
         }
     }
@@ -215,7 +235,21 @@ impl CpuEngine {
             &self.neighbours.pairs,
             &mut self.contacts,
             &mut self.tally,
-        )?;
+        )
+        .map_err(|e| match e {
+            EngineError::SlotOverflow {
+                kind,
+                monomer,
+                limit,
+                ..
+            } => EngineError::SlotOverflow {
+                kind,
+                step: self.step + 1,
+                monomer,
+                limit,
+            },
+            other => other,
+        })?;
         self.pass_seconds[2] += clock.elapsed().as_secs_f64();
         let damping_before = self.monomers.damping_force.clone();
         let wall_force_before = self.wall_force.clone();
@@ -238,7 +272,7 @@ impl CpuEngine {
         self.step += 1;
         self.time += dt;
         if self.step.is_multiple_of(64) {
-            self.check_finite()?;
+            self.check_state()?;
         }
         Ok(())
     }
@@ -250,14 +284,42 @@ impl CpuEngine {
         Ok(())
     }
 
-    pub fn check_finite(&self) -> Result<(), EngineError> {
+    /// Run-time guard: finite positions and velocities, and no overlap above half a radius.
+    pub fn check_state(&self) -> Result<(), EngineError> {
         let m = &self.monomers;
+        let r = self.law.radius;
+        let limit = 0.5 * r;
         for i in 0..m.len() {
             if !(m.position[i].is_finite() && m.velocity[i].is_finite()) {
                 return Err(EngineError::NonFinite {
                     step: self.step,
                     monomer: i,
                 });
+            }
+        }
+        for i in 0..m.len() {
+            for c in self.contacts.pairs_of(i) {
+                let overlap = 2.0 * r - (m.position[i] - m.position[c.partner as usize]).length();
+                if overlap > limit {
+                    return Err(EngineError::RunawayOverlap {
+                        step: self.step,
+                        monomer: i,
+                        partner: format!("monomer {}", c.partner),
+                        overlap,
+                    });
+                }
+            }
+            for c in self.contacts.walls_of(i) {
+                let w = &self.walls[c.wall as usize];
+                let overlap = crate::model::wall::wall_overlap(m.position[i], w.point, w.normal, r);
+                if overlap > limit {
+                    return Err(EngineError::RunawayOverlap {
+                        step: self.step,
+                        monomer: i,
+                        partner: format!("the {} wall", w.name),
+                        overlap,
+                    });
+                }
             }
         }
         Ok(())
@@ -344,5 +406,263 @@ impl CpuEngine {
                     + self.synchronized_angular_velocity(i) * self.law.moment_of_inertia
             })
             .sum()
+    }
+}
+
+mod codec {
+    //! The engine's full state as bytes, for checkpoints: everything a step reads, so that a
+    //! restored engine continues bit for bit. The neighbour list is not stored: it is rebuilt,
+    //! and contact formation visits candidates in sorted order, so its timing does not matter.
+
+    use super::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
+    use super::{CpuEngine, NeighbourList};
+    use crate::io::binary::{DecodeError, Decoder, Encoder};
+    use crate::material::ContactConstants;
+    use crate::model::ContactLaw;
+
+    fn constants(e: &mut Encoder, c: &ContactConstants) {
+        for v in [
+            c.reduced_radius,
+            c.a0,
+            c.delta0,
+            c.f_c,
+            c.delta_c,
+            c.k_r,
+            c.k_s,
+            c.k_t,
+            c.xi_crit,
+            c.zeta_crit,
+            c.phi_crit,
+        ] {
+            e.f64(v);
+        }
+    }
+
+    fn read_constants(d: &mut Decoder) -> Result<ContactConstants, DecodeError> {
+        let w = "wall constants";
+        Ok(ContactConstants {
+            reduced_radius: d.f64(w)?,
+            a0: d.f64(w)?,
+            delta0: d.f64(w)?,
+            f_c: d.f64(w)?,
+            delta_c: d.f64(w)?,
+            k_r: d.f64(w)?,
+            k_s: d.f64(w)?,
+            k_t: d.f64(w)?,
+            xi_crit: d.f64(w)?,
+            zeta_crit: d.f64(w)?,
+            phi_crit: d.f64(w)?,
+        })
+    }
+
+    fn invalid(d: &Decoder, what: &str, problem: String) -> DecodeError {
+        DecodeError {
+            what: what.to_string(),
+            offset: d.offset,
+            problem,
+        }
+    }
+
+    impl CpuEngine {
+        pub fn encode_state(&self, e: &mut Encoder) {
+            e.f64(self.dt);
+            e.u64(self.step);
+            e.f64(self.time);
+            e.f64(self.wall_work);
+            let t = &self.tally;
+            for v in [
+                t.breaking, t.forming, t.damping, t.rolling, t.sliding, t.twisting, t.walls,
+            ] {
+                e.f64(v);
+            }
+            let m = &self.monomers;
+            for v in [
+                &m.position,
+                &m.velocity,
+                &m.angular_velocity,
+                &m.force,
+                &m.torque,
+                &m.damping_force,
+            ] {
+                e.vec3s(v);
+            }
+            e.f64s(&m.inverse_mass_scale);
+            e.f64s(&m.inverse_inertia_scale);
+            let c = &self.contacts;
+            e.u64(c.pair_slots as u64);
+            e.u64(c.wall_slots as u64);
+            e.u32s(&c.pair_count);
+            e.u32s(&c.wall_count);
+            for i in 0..m.len() {
+                for p in c.pairs_of(i) {
+                    e.u32(p.partner);
+                    e.vec3(p.n1);
+                    e.vec3(p.n2);
+                    e.f64(p.twist);
+                }
+                for w in c.walls_of(i) {
+                    e.u32(w.wall);
+                    e.vec3(w.n1);
+                    e.vec3(w.anchor);
+                    e.f64(w.twist);
+                }
+            }
+            e.u64(self.walls.len() as u64);
+            for w in &self.walls {
+                e.bytes_with_len(w.name.as_bytes());
+                e.vec3(w.point);
+                e.vec3(w.normal);
+                e.vec3(w.velocity);
+                constants(e, &w.constants);
+            }
+            e.vec3s(&self.wall_force);
+            e.vec3s(&self.wall_damping);
+        }
+
+        /// Restores an engine written by [`CpuEngine::encode_state`]; `law` comes from the
+        /// checkpoint's config.
+        pub fn decode_state(law: ContactLaw, d: &mut Decoder) -> Result<CpuEngine, DecodeError> {
+            let dt = d.f64("time step")?;
+            let step = d.u64("step")?;
+            let time = d.f64("time")?;
+            let wall_work = d.f64("wall work")?;
+            let t = "dissipation tally";
+            let tally = Dissipation {
+                breaking: d.f64(t)?,
+                forming: d.f64(t)?,
+                damping: d.f64(t)?,
+                rolling: d.f64(t)?,
+                sliding: d.f64(t)?,
+                twisting: d.f64(t)?,
+                walls: d.f64(t)?,
+            };
+            let monomers = Monomers {
+                position: d.vec3s("positions")?,
+                velocity: d.vec3s("velocities")?,
+                angular_velocity: d.vec3s("angular velocities")?,
+                force: d.vec3s("forces")?,
+                torque: d.vec3s("torques")?,
+                damping_force: d.vec3s("damping forces")?,
+                inverse_mass_scale: d.f64s("inverse mass scales")?,
+                inverse_inertia_scale: d.f64s("inverse inertia scales")?,
+            };
+            let n = monomers.position.len();
+            let lengths = [
+                monomers.velocity.len(),
+                monomers.angular_velocity.len(),
+                monomers.force.len(),
+                monomers.torque.len(),
+                monomers.damping_force.len(),
+                monomers.inverse_mass_scale.len(),
+                monomers.inverse_inertia_scale.len(),
+            ];
+            if lengths.iter().any(|&l| l != n) {
+                return Err(invalid(
+                    d,
+                    "monomer arrays",
+                    format!("lengths {lengths:?} differ from {n} positions"),
+                ));
+            }
+            let pair_slots = d.u64("pair slots")? as usize;
+            let wall_slots = d.u64("wall slots")? as usize;
+            if !(1..=64).contains(&pair_slots) || !(1..=6).contains(&wall_slots) {
+                return Err(invalid(
+                    d,
+                    "slot counts",
+                    format!("{pair_slots} pair / {wall_slots} wall slots are out of range"),
+                ));
+            }
+            let mut contacts = ContactTable::new(n, pair_slots, wall_slots);
+            let pair_count = d.u32s("pair contact counts")?;
+            let wall_count = d.u32s("wall contact counts")?;
+            if pair_count.len() != n || wall_count.len() != n {
+                return Err(invalid(
+                    d,
+                    "contact counts",
+                    format!("expected {n} entries"),
+                ));
+            }
+            for i in 0..n {
+                if pair_count[i] as usize > pair_slots || wall_count[i] as usize > wall_slots {
+                    return Err(invalid(
+                        d,
+                        "contact counts",
+                        format!("monomer {i} has more contacts than slots"),
+                    ));
+                }
+                for s in 0..pair_count[i] as usize {
+                    let partner = d.u32("pair contact")?;
+                    if partner as usize >= n || partner as usize <= i {
+                        return Err(invalid(
+                            d,
+                            "pair contact",
+                            format!("monomer {i} has partner {partner}"),
+                        ));
+                    }
+                    contacts.pair[i * pair_slots + s] = PairContact {
+                        partner,
+                        n1: d.vec3("pair contact")?,
+                        n2: d.vec3("pair contact")?,
+                        twist: d.f64("pair contact")?,
+                    };
+                }
+                for s in 0..wall_count[i] as usize {
+                    contacts.wall[i * wall_slots + s] = WallContact {
+                        wall: d.u32("wall contact")?,
+                        n1: d.vec3("wall contact")?,
+                        anchor: d.vec3("wall contact")?,
+                        twist: d.f64("wall contact")?,
+                    };
+                }
+            }
+            contacts.pair_count = pair_count;
+            contacts.wall_count = wall_count;
+            let nw = d.u64("wall count")? as usize;
+            if nw > 64 {
+                return Err(invalid(d, "wall count", format!("{nw} walls")));
+            }
+            let mut walls = Vec::with_capacity(nw);
+            for _ in 0..nw {
+                let name = String::from_utf8_lossy(d.bytes_with_len("wall name")?).into_owned();
+                walls.push(Wall {
+                    name,
+                    point: d.vec3("wall")?,
+                    normal: d.vec3("wall")?,
+                    velocity: d.vec3("wall")?,
+                    constants: read_constants(d)?,
+                });
+            }
+            for i in 0..n {
+                if contacts.walls_of(i).iter().any(|c| c.wall as usize >= nw) {
+                    return Err(invalid(
+                        d,
+                        "wall contact",
+                        format!("monomer {i} touches a wall that does not exist"),
+                    ));
+                }
+            }
+            let wall_force = d.vec3s("wall forces")?;
+            let wall_damping = d.vec3s("wall damping forces")?;
+            if wall_force.len() != nw || wall_damping.len() != nw {
+                return Err(invalid(d, "wall forces", format!("expected {nw} entries")));
+            }
+            let mut neighbours = NeighbourList::new(2.0 * law.radius, 0.2 * law.radius);
+            neighbours.refresh(&monomers.position);
+            Ok(CpuEngine {
+                law,
+                dt,
+                monomers,
+                contacts,
+                walls,
+                neighbours,
+                tally,
+                wall_work,
+                wall_force,
+                wall_damping,
+                step,
+                time,
+                pass_seconds: [0.0; 5],
+            })
+        }
     }
 }

@@ -6,7 +6,8 @@ use super::measure::{filling_factor, projected_area};
 use super::setup::{build_sample, build_walls, monomers_of, SetupError, TOP_WALL};
 use crate::config::{Config, ExperimentKind};
 use crate::cpu::{CpuEngine, EnergyReport, EngineError};
-use crate::sample::{slab_profile, Sample};
+use crate::io::binary::{DecodeError, Decoder, Encoder};
+use crate::sample::{slab_profile, Footprint};
 use std::fmt;
 
 /// One measurement row.
@@ -105,6 +106,10 @@ pub enum RunError {
     Setup(SetupError),
     Engine(EngineError),
     Output(String),
+    /// Stopped on request (SIGINT/SIGTERM) after writing a checkpoint.
+    Interrupted {
+        checkpoint: std::path::PathBuf,
+    },
 }
 
 impl fmt::Display for RunError {
@@ -113,6 +118,11 @@ impl fmt::Display for RunError {
             RunError::Setup(e) => write!(f, "{e}"),
             RunError::Engine(e) => write!(f, "{e}"),
             RunError::Output(e) => write!(f, "{e}"),
+            RunError::Interrupted { checkpoint } => write!(
+                f,
+                "interrupted; continue with: dustdem resume {}",
+                checkpoint.display()
+            ),
         }
     }
 }
@@ -130,12 +140,16 @@ pub enum Event<'a> {
     Row(&'a Row),
     /// Filling-factor profile in slabs one diameter thick: (slab centre height [cm], φ).
     Profile(&'a Row, &'a [(f64, f64)]),
+    /// Everything of a row has been reported and the run will continue: a point where the
+    /// state can be checkpointed (the report may return an error to stop here).
+    RowDone(&'a Compression),
 }
 
 pub struct Compression {
     pub kind: ExperimentKind,
     pub engine: CpuEngine,
-    pub sample: Sample,
+    /// Base of the box or cylinder the sample was made in.
+    pub footprint: Footprint,
     average_steps: u64,
     phi_stop: f64,
     pressure_stop: f64,
@@ -161,7 +175,7 @@ impl Compression {
         Ok(Compression {
             kind: e.kind,
             engine,
-            sample,
+            footprint: sample.footprint.clone(),
             average_steps: e.average_steps,
             phi_stop: e.phi_stop,
             pressure_stop: e.pressure_stop_pa,
@@ -171,10 +185,58 @@ impl Compression {
         })
     }
 
+    /// The run's state for a checkpoint: footprint, rows reported, engine.
+    pub fn encode_state(&self, e: &mut Encoder) {
+        match self.footprint {
+            Footprint::Box { side } => {
+                e.u32(0);
+                e.f64(side);
+            }
+            Footprint::Cylinder { radius } => {
+                e.u32(1);
+                e.f64(radius);
+            }
+        }
+        e.u64(self.rows);
+        self.engine.encode_state(e);
+    }
+
+    /// Continues a run from [`Compression::encode_state`]'s bytes under `config` (the one the
+    /// checkpoint carries).
+    pub fn decode_state(config: &Config, d: &mut Decoder) -> Result<Self, DecodeError> {
+        let kind = d.u32("footprint")?;
+        let size = d.f64("footprint")?;
+        let footprint = match kind {
+            0 => Footprint::Box { side: size },
+            1 => Footprint::Cylinder { radius: size },
+            k => {
+                return Err(DecodeError {
+                    what: "footprint".into(),
+                    offset: d.offset,
+                    problem: format!("unknown footprint kind {k}"),
+                })
+            }
+        };
+        let rows = d.u64("rows")?;
+        let engine = CpuEngine::decode_state(config.contact_law(), d)?;
+        let e = &config.experiment;
+        Ok(Compression {
+            kind: e.kind,
+            engine,
+            footprint,
+            average_steps: e.average_steps,
+            phi_stop: e.phi_stop,
+            pressure_stop: e.pressure_stop_pa,
+            max_steps: e.max_steps,
+            profile_every: e.profile_every_rows,
+            rows,
+        })
+    }
+
     /// Cross-section for φ and P: the box base (omni) or the projected area (uni).
     pub fn area(&self) -> f64 {
         match self.kind {
-            ExperimentKind::Omni => self.sample.footprint.area(),
+            ExperimentKind::Omni => self.footprint.area(),
             _ => projected_area(&self.engine.monomers.position, self.engine.law.radius),
         }
     }
@@ -222,11 +284,13 @@ impl Compression {
     /// Runs until a stop rule fires, reporting rows (and profiles) through `report`.
     pub fn run(
         &mut self,
-        report: &mut dyn FnMut(Event) -> Result<(), String>,
+        report: &mut dyn FnMut(Event) -> Result<(), RunError>,
     ) -> Result<StopReason, RunError> {
-        let first = self.measure(f64::NAN, f64::NAN);
-        report(Event::Row(&first)).map_err(RunError::Output)?;
-        report(Event::Profile(&first, &self.profile())).map_err(RunError::Output)?;
+        if self.engine.step == 0 {
+            let first = self.measure(f64::NAN, f64::NAN);
+            report(Event::Row(&first))?;
+            report(Event::Profile(&first, &self.profile()))?;
+        }
         loop {
             let (mut top, mut bottom) = (0.0, 0.0);
             for _ in 0..self.average_steps {
@@ -238,7 +302,7 @@ impl Compression {
             let n = self.average_steps as f64;
             let row = self.measure(top / n, bottom / n);
             self.rows += 1;
-            report(Event::Row(&row)).map_err(RunError::Output)?;
+            report(Event::Row(&row))?;
             let stop = if row.phi >= self.phi_stop {
                 Some(StopReason::FillingFactor)
             } else if row.p_top >= self.pressure_stop {
@@ -251,11 +315,12 @@ impl Compression {
             if stop.is_some()
                 || (self.profile_every > 0 && self.rows.is_multiple_of(self.profile_every))
             {
-                report(Event::Profile(&row, &self.profile())).map_err(RunError::Output)?;
+                report(Event::Profile(&row, &self.profile()))?;
             }
             if let Some(reason) = stop {
                 return Ok(reason);
             }
+            report(Event::RowDone(self))?;
         }
     }
 }

@@ -40,6 +40,29 @@ impl CsvWriter {
         })
     }
 
+    /// Reopens a table written by [`CsvWriter::create`] to append to it, first cutting it back
+    /// to `length` bytes (its size when a checkpoint was taken), so rows written after that
+    /// checkpoint are not duplicated when a resumed run writes them again.
+    pub fn reopen(path: impl AsRef<Path>, columns: usize, length: u64) -> io::Result<Self> {
+        let path = path.as_ref();
+        let file = std::fs::OpenOptions::new().write(true).open(path)?;
+        let size = file.metadata()?.len();
+        if size < length {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidData,
+                format!("has {size} bytes, fewer than the {length} the checkpoint recorded"),
+            ));
+        }
+        file.set_len(length)?;
+        let mut file = file;
+        io::Seek::seek(&mut file, io::SeekFrom::End(0))?;
+        Ok(Self {
+            out: BufWriter::new(file),
+            path: path.to_path_buf(),
+            columns,
+        })
+    }
+
     /// Writes `text` as `#` comment lines, e.g. run parameters.
     pub fn comment(&mut self, text: &str) -> io::Result<()> {
         for line in text.lines() {

@@ -1,4 +1,7 @@
 //! Output files: figures, tables, atomic writes.
 pub mod atomic;
+pub mod binary;
+pub mod checkpoint;
 pub mod csv;
 pub mod plot;
+pub mod snapshot;
