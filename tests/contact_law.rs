@@ -54,7 +54,7 @@ fn potential_is_the_integral_of_the_force() {
     assert!((jkr_potential(X_MIN, f_c, delta0) - 0.772_241).abs() < 1e-6);
 }
 
-fn random_pair_beyond_limits(rng: &mut TestRng, spread: f64) -> (DVec3, DVec3) {
+fn random_pair_beyond_limits(rng: &mut SplitMix64, spread: f64) -> (DVec3, DVec3) {
     let axis = rng.unit_vector();
     (
         (-axis + rng.unit_vector() * spread).normalize(),
@@ -67,9 +67,9 @@ fn inelastic_corrections_land_exactly_on_the_critical_lengths() {
     let law = undamped();
     let k = law.pair;
     let r = law.radius;
-    let mut rng = TestRng(3);
+    let mut rng = SplitMix64(3);
     for _ in 0..2000 {
-        let spread = 0.5 * rng.uniform();
+        let spread = 0.5 * rng.unit();
         let (n1, n2) = random_pair_beyond_limits(&mut rng, spread);
         let nc = (-n1 + n2).normalize();
         if let Some((a, b)) = rolling::rolling_correction(n1, n2, k.reduced_radius, k.xi_crit) {
@@ -82,7 +82,7 @@ fn inelastic_corrections_land_exactly_on_the_critical_lengths() {
             assert!((zeta / k.zeta_crit - 1.0).abs() < 1e-9, "sliding {zeta:e}");
             assert!((a.length() - 1.0).abs() < 1e-14 && (b.length() - 1.0).abs() < 1e-14);
         }
-        let twist = (rng.uniform() - 0.5) * 0.2;
+        let twist = (rng.unit() - 0.5) * 0.2;
         if let Some(t) = twisting::twisting_correction(twist, k.phi_crit) {
             assert_eq!(t.abs(), k.phi_crit);
             assert_eq!(t.signum(), twist.signum());
@@ -114,10 +114,10 @@ fn inelastic_corrections_land_exactly_on_the_critical_lengths() {
 
 #[test]
 fn pointer_rotation_is_a_rotation() {
-    let mut rng = TestRng(5);
+    let mut rng = SplitMix64(5);
     for _ in 0..1000 {
         let n = rng.unit_vector();
-        let w = rng.unit_vector() * (0.3 * rng.uniform());
+        let w = rng.unit_vector() * (0.3 * rng.unit());
         let turned = rotate_pointer(n, w);
         assert!((turned.length() - 1.0).abs() < 1e-15);
         // Angle about the axis is |w|; the component along the axis is kept.
@@ -137,7 +137,7 @@ fn tangential_forces_are_gradients_of_their_potentials() {
     let law = undamped();
     let k = law.pair;
     let r = law.radius;
-    let mut rng = TestRng(9);
+    let mut rng = SplitMix64(9);
     let axis = rng.unit_vector();
     let n1 = (-axis + rng.unit_vector() * 0.01).normalize();
     let n2 = (axis + rng.unit_vector() * 0.01).normalize();

@@ -53,10 +53,10 @@ pub fn mean_period(crossings: &[f64]) -> f64 {
     (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64
 }
 
-/// SplitMix64, enough randomness for test geometry.
-pub struct TestRng(pub u64);
+/// SplitMix64: a few lines, no dependency, the same sequence on every machine.
+pub struct SplitMix64(pub u64);
 
-impl TestRng {
+impl SplitMix64 {
     pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
         let mut z = self.0;
@@ -64,12 +64,25 @@ impl TestRng {
         z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
         z ^ (z >> 31)
     }
-    pub fn uniform(&mut self) -> f64 {
+
+    /// Uniform in [0, 1).
+    pub fn unit(&mut self) -> f64 {
         (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
     }
+
+    pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.unit()
+    }
+
+    /// Log-uniform in [lo, hi], both > 0.
+    pub fn log_uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        (lo.ln() + (hi.ln() - lo.ln()) * self.unit()).exp()
+    }
+
+    /// Uniformly distributed direction (rejection from the cube).
     pub fn unit_vector(&mut self) -> DVec3 {
         loop {
-            let v = DVec3::new(self.uniform(), self.uniform(), self.uniform()) * 2.0 - DVec3::ONE;
+            let v = DVec3::new(self.unit(), self.unit(), self.unit()) * 2.0 - DVec3::ONE;
             let l = v.length();
             if l > 0.1 && l <= 1.0 {
                 return v / l;
@@ -81,11 +94,11 @@ impl TestRng {
 /// A random tree aggregate: each monomer sits at the equilibrium distance 2r − δ₀ from a random
 /// earlier one and at least 2r from all others, so every contact starts at rest.
 pub fn tree_aggregate(law: &ContactLaw, n: usize, seed: u64) -> Vec<DVec3> {
-    let mut rng = TestRng(seed);
+    let mut rng = SplitMix64(seed);
     let d = 2.0 * law.radius - law.pair.delta0;
     let mut pos = vec![DVec3::ZERO];
     while pos.len() < n {
-        let parent = pos[(rng.uniform() * pos.len() as f64) as usize];
+        let parent = pos[(rng.unit() * pos.len() as f64) as usize];
         let candidate = parent + rng.unit_vector() * d;
         if pos
             .iter()

@@ -6,32 +6,9 @@
 use dustdem::gpu::context::GpuContext;
 use wgpu::util::DeviceExt;
 
-/// SplitMix64: a few lines, no dependency, the same sequence on every machine.
-pub struct SplitMix64(pub u64);
-
-impl SplitMix64 {
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1).
-    pub fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-
-    /// Log-uniform in [lo, hi], both > 0.
-    pub fn log_uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        (lo.ln() + (hi.ln() - lo.ln()) * self.unit()).exp()
-    }
-}
+#[path = "../common/mod.rs"]
+mod common;
+pub use common::SplitMix64;
 
 /// The probe shaders' uniform: number of records and the two record lengths (in f64s).
 #[repr(C)]
