@@ -112,8 +112,8 @@ fn wall_force_is_the_sum_of_the_monomer_wall_normal_forces() {
         }
     }
     assert!(
-        checked > 1000,
-        "walls were touched ({checked} contact samples)"
+        checked.iter().all(|&c| c > 50),
+        "both walls were touched ({checked:?} contact samples)"
     );
 }
 
