@@ -4,7 +4,9 @@
 use crate::analysis::fit::Eq13;
 use crate::config::{Config, ExperimentKind};
 use crate::experiment::collision::{analytic_sticking_speed, head_on_collision, Outcome};
-use crate::experiment::compression::{Compression, Event, Row, RunError, StopReason};
+use crate::experiment::compression::{Compression, Engine, Event, Row, RunError, StopReason};
+use crate::gpu::context::{GpuContext, Requirements};
+use crate::gpu::engine::{GpuEngine, GpuError};
 use crate::io::atomic::write_atomic;
 use crate::io::binary::{Decoder, Encoder};
 use crate::io::checkpoint::{read_checkpoint, write_checkpoint};
@@ -53,11 +55,37 @@ pub struct Progress<'a> {
     pub steps_per_second: f64,
 }
 
-/// How a job reports and when it stops early.
+/// Which engine runs a compression.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Backend {
+    /// The f64 CPU reference.
+    Cpu,
+    /// The WGSL engine on the best adapter with f64 (an error when there is none).
+    Gpu,
+    /// The GPU when an adapter fits, else the CPU.
+    Auto,
+}
+
+impl std::str::FromStr for Backend {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "cpu" => Ok(Backend::Cpu),
+            "gpu" => Ok(Backend::Gpu),
+            "auto" => Ok(Backend::Auto),
+            other => Err(format!("backend `{other}`: expected cpu, gpu or auto")),
+        }
+    }
+}
+
+/// How a job reports, where it runs and when it stops early.
 pub struct JobOptions<'a> {
     pub progress: &'a mut dyn FnMut(&Progress),
     /// Set by a signal handler: checkpoint at the next row and stop.
     pub interrupt: Option<&'a AtomicBool>,
+    pub backend: Backend,
+    /// Receives one line naming the backend chosen.
+    pub notice: &'a mut dyn FnMut(&str),
 }
 
 fn io_err(path: &Path) -> impl Fn(std::io::Error) -> RunError + '_ {
@@ -77,25 +105,62 @@ pub fn run_job(
     match config.experiment.kind {
         ExperimentKind::Collision => run_collision(config, out_dir, config_path),
         _ => {
-            let run = Compression::new(config)?;
-            let curve_path = out_dir.join(CURVE_FILE);
-            let mut curve =
-                CsvWriter::create(&curve_path, &Row::HEADER).map_err(io_err(&curve_path))?;
-            curve
-                .comment(&describe_run(config, &run))
-                .map_err(io_err(&curve_path))?;
-            let profile_path = out_dir.join(PROFILE_FILE);
-            let profiles =
-                CsvWriter::create(&profile_path, &PROFILE_HEADER).map_err(io_err(&profile_path))?;
-            write_snapshot(out_dir, config.output.snapshot_format, &run.engine, "")
-                .map_err(io_err(out_dir))?;
-            drive(config, out_dir, run, curve, profiles, options)
+            let context = match options.backend {
+                Backend::Cpu => None,
+                Backend::Gpu => {
+                    Some(GpuContext::new(&Requirements::default()).map_err(GpuError::from)?)
+                }
+                Backend::Auto => GpuContext::new(&Requirements::default()).ok(),
+            };
+            match context {
+                None => {
+                    (options.notice)("backend: cpu (f64 reference)");
+                    start(config, out_dir, Compression::new(config)?, options)
+                }
+                Some(ctx) => {
+                    (options.notice)(&format!(
+                        "backend: gpu ({}, {:?} float mode)",
+                        ctx.summary().name,
+                        ctx.float_mode
+                    ));
+                    let run = Compression::with_engine(config, |law, dt, m, walls, ps, ws| {
+                        Ok(GpuEngine::new(ctx, law, dt, m, walls, ps, ws)?)
+                    })?;
+                    start(config, out_dir, run, options)
+                }
+            }
         }
     }
 }
 
+/// Creates the output tables and the first snapshot of a fresh compression, then runs it.
+fn start<E: Engine>(
+    config: &Config,
+    out_dir: &Path,
+    run: Compression<E>,
+    options: &mut JobOptions,
+) -> Result<JobSummary, RunError> {
+    let curve_path = out_dir.join(CURVE_FILE);
+    let mut curve = CsvWriter::create(&curve_path, &Row::HEADER).map_err(io_err(&curve_path))?;
+    curve
+        .comment(&describe_run(config, &run))
+        .map_err(io_err(&curve_path))?;
+    let profile_path = out_dir.join(PROFILE_FILE);
+    let profiles =
+        CsvWriter::create(&profile_path, &PROFILE_HEADER).map_err(io_err(&profile_path))?;
+    write_snapshot(
+        out_dir,
+        config.output.snapshot_format,
+        &run.engine.state(),
+        "",
+    )
+    .map_err(io_err(out_dir))?;
+    drive(config, out_dir, run, curve, profiles, options)
+}
+
 /// Continues the run a checkpoint belongs to, in the output directory it names: the curve and
-/// profile files are cut back to what they held at the checkpoint, then appended to.
+/// profile files are cut back to what they held at the checkpoint, then appended to. Resumed
+/// runs continue on the CPU reference (bit for bit when the checkpoint came from it).
 pub fn resume_job(checkpoint: &Path, options: &mut JobOptions) -> Result<JobSummary, RunError> {
     let loaded = load_checkpoint(checkpoint)?;
     let out_dir = loaded.out_dir;
@@ -156,7 +221,7 @@ pub fn load_checkpoint(checkpoint: &Path) -> Result<LoadedCheckpoint, RunError> 
     })
 }
 
-fn describe_run(config: &Config, run: &Compression) -> String {
+fn describe_run<E: Engine>(config: &Config, run: &Compression<E>) -> String {
     format!(
         "dustdem {} compression, {} monomers, wall speed {} m/s, dt {} ns, seed {}",
         if run.kind == ExperimentKind::Omni {
@@ -164,17 +229,17 @@ fn describe_run(config: &Config, run: &Compression) -> String {
         } else {
             "unidirectional"
         },
-        run.engine.monomers.len(),
+        run.engine.monomer_count(),
         config.experiment.wall_speed_m_s,
         config.integration.dt_ns,
         config.sample.seed
     )
 }
 
-fn checkpoint_body(
+fn checkpoint_body<E: Engine>(
     config: &Config,
     out_dir: &Path,
-    run: &Compression,
+    run: &Compression<E>,
     curve: &Path,
     profiles: &Path,
 ) -> Result<Vec<u8>, RunError> {
@@ -190,10 +255,10 @@ fn checkpoint_body(
 }
 
 /// The compression loop shared by fresh and resumed runs.
-fn drive(
+fn drive<E: Engine>(
     config: &Config,
     out_dir: &Path,
-    mut run: Compression,
+    mut run: Compression<E>,
     mut curve: CsvWriter,
     mut profiles: CsvWriter,
     options: &mut JobOptions,
@@ -204,7 +269,7 @@ fn drive(
     let every_rows = config.output.checkpoint_every_rows;
     let every_seconds = config.output.checkpoint_minutes * 60.0;
     let started = Instant::now();
-    let start_step = run.engine.step;
+    let start_step = run.engine.step_count();
     let mut last_checkpoint = Instant::now();
     let mut rows_since_checkpoint = 0u64;
     let mut rows_since_snapshot = 0u64;
@@ -245,7 +310,7 @@ fn drive(
         }
         Event::RowDone(state) => {
             if snapshot_every > 0 && rows_since_snapshot >= snapshot_every {
-                write_snapshot(out_dir, snapshot_format, &state.engine, "")
+                write_snapshot(out_dir, snapshot_format, &state.engine.state(), "")
                     .map_err(io_err(out_dir))?;
                 rows_since_snapshot = 0;
             }
@@ -274,16 +339,16 @@ fn drive(
         }
         Err(other) => return Err(other),
     };
-    write_snapshot(out_dir, snapshot_format, &run.engine, "").map_err(io_err(out_dir))?;
+    write_snapshot(out_dir, snapshot_format, &run.engine.state(), "").map_err(io_err(out_dir))?;
     finish(out_dir, &run, stop, &curve_path, &profile_path)
 }
 
 /// After a run-time guard fired: a checkpoint and a snapshot of the failed state for
 /// inspection (beside, not over, the last good checkpoint), and a message naming them.
-fn keep_failed_state(
+fn keep_failed_state<E: Engine>(
     config: &Config,
     out_dir: &Path,
-    run: &Compression,
+    run: &Compression<E>,
     error: crate::cpu::EngineError,
 ) -> RunError {
     let mut kept = Vec::new();
@@ -304,7 +369,7 @@ fn keep_failed_state(
         crate::config::SnapshotChoice::None => crate::config::SnapshotChoice::Vtu,
         c => c,
     };
-    let snapshot = write_snapshot(out_dir, choice, &run.engine, "_failed");
+    let snapshot = write_snapshot(out_dir, choice, &run.engine.state(), "_failed");
     if let Ok(files) = &snapshot {
         kept.extend(files.iter().cloned());
     }
@@ -322,9 +387,9 @@ fn keep_failed_state(
     RunError::Output(message)
 }
 
-fn finish(
+fn finish<E: Engine>(
     out_dir: &Path,
-    run: &Compression,
+    run: &Compression<E>,
     stop: StopReason,
     curve_path: &Path,
     profile_path: &Path,
@@ -347,7 +412,8 @@ fn finish(
     let lines = vec![
         format!(
             "stopped at step {} (t = {:.4e} s): {stop}",
-            run.engine.step, run.engine.time
+            run.engine.step_count(),
+            run.engine.time()
         ),
         format!(
             "final phi {:.4}, top-wall pressure {:.4e} Pa",

@@ -2,11 +2,15 @@
 
 use clap::{Parser, Subcommand};
 use dustdem::analysis::fit::{fit_eq13, FitOptions};
-use dustdem::config::{stable_time_step, Config};
+use dustdem::config::{stable_time_step, Config, ExperimentKind};
 use dustdem::experiment::collision::analytic_sticking_speed;
 use dustdem::experiment::setup::build_sample;
+use dustdem::gpu::buffers::Sizes;
+use dustdem::gpu::context::{GpuContext, Requirements};
 use dustdem::io::csv::read_csv;
-use dustdem::job::{resume_job, run_job, JobOptions, JobSummary, Progress, DEFAULT_CONFIG};
+use dustdem::job::{
+    resume_job, run_job, Backend, JobOptions, JobSummary, Progress, DEFAULT_CONFIG,
+};
 use dustdem::material::{
     chokshi_sticking_velocity, normal_period, rolling_energy_quarter_turn, sliding_period, Derived,
 };
@@ -36,6 +40,10 @@ enum Command {
         /// Output directory (overrides [output] dir).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Engine: cpu (f64 reference), gpu (WGSL on an adapter with f64) or auto (gpu when
+        /// an adapter fits, else cpu).
+        #[arg(long, default_value = "auto")]
+        backend: Backend,
         #[command(flatten)]
         report: ReportArgs,
     },
@@ -64,8 +72,13 @@ enum Command {
         #[arg(long, default_value_t = 0.0)]
         p_min: f64,
     },
-    /// Print the material, derived and model constants of a config.
-    Info { config: Option<PathBuf> },
+    /// Print the material, derived and model constants of a config, and the GPU adapter.
+    Info {
+        config: Option<PathBuf>,
+        /// N for the GPU memory estimate (default: the config's sample size).
+        #[arg(long)]
+        monomers: Option<usize>,
+    },
 }
 
 #[derive(clap::Args)]
@@ -152,15 +165,28 @@ fn load_config(path: Option<&Path>) -> Result<Config, String> {
     }
 }
 
-fn run(config: Option<PathBuf>, out: Option<PathBuf>, args: ReportArgs) -> Result<(), String> {
+fn run(
+    config: Option<PathBuf>,
+    out: Option<PathBuf>,
+    backend: Backend,
+    args: ReportArgs,
+) -> Result<(), String> {
     let config = load_config(config.as_deref())?;
     let out_dir = out.unwrap_or_else(|| config.output.dir.clone());
     let reporter = Reporter::new(&args);
     let flag = interrupt_flag();
     let mut progress = |p: &Progress| reporter.report(p);
+    let quiet = args.quiet;
+    let mut notice = |line: &str| {
+        if !quiet {
+            eprintln!("{line}");
+        }
+    };
     let mut options = JobOptions {
         progress: &mut progress,
         interrupt: Some(&flag),
+        backend,
+        notice: &mut notice,
     };
     let result = run_job(&config, &out_dir, &mut options);
     reporter.finish();
@@ -172,9 +198,12 @@ fn resume(checkpoint: PathBuf, args: ReportArgs) -> Result<(), String> {
     let reporter = Reporter::new(&args);
     let flag = interrupt_flag();
     let mut progress = |p: &Progress| reporter.report(p);
+    let mut notice = |_: &str| {};
     let mut options = JobOptions {
         progress: &mut progress,
         interrupt: Some(&flag),
+        backend: Backend::Cpu,
+        notice: &mut notice,
     };
     let result = resume_job(&checkpoint, &mut options);
     reporter.finish();
@@ -253,12 +282,11 @@ fn fit(curve: PathBuf, phi1: Option<f64>, phi2: Option<f64>, p_min: f64) -> Resu
     Ok(())
 }
 
-fn info(config: Option<PathBuf>) -> Result<(), String> {
+fn info(config: Option<PathBuf>, monomers: Option<usize>) -> Result<(), String> {
     let config = load_config(config.as_deref())?;
     let m = config.material();
     let law = config.contact_law();
     let d = Derived::new(&m, config.twisting_stiffness());
-    println!("backend: cpu (f64 reference)");
     println!("material: r = {:.4e} cm, rho = {} g/cm3, gamma = {} erg/cm2, E = {:.4e} dyn/cm2, nu = {}, xi_crit = {:.3e} cm",
         m.radius, m.density, m.surface_energy, m.youngs_modulus, m.poisson, m.xi_crit);
     println!(
@@ -306,7 +334,42 @@ fn info(config: Option<PathBuf>) -> Result<(), String> {
         config.integration.dt_ns,
         stable_time_step(&law, &config.wall_factors()) * 1e9
     );
+    gpu_info(&config, monomers.unwrap_or(config.sample.monomers));
     Ok(())
+}
+
+/// The adapter the GPU backend would use, and whether N monomers fit on it.
+fn gpu_info(config: &Config, n: usize) {
+    let walls = if config.experiment.kind == ExperimentKind::Omni {
+        6
+    } else {
+        2
+    };
+    let sizes = Sizes::new(
+        n,
+        walls,
+        config.integration.pair_slots,
+        config.integration.wall_slots,
+    );
+    let (name, largest) = sizes.largest_binding();
+    let mib = |b: u64| b as f64 / f64::from(1u32 << 20);
+    println!(
+        "gpu memory for N = {n}: {:.1} MiB ({:.0} B per monomer), largest binding `{name}` \
+         {:.1} MiB",
+        mib(sizes.total_bytes()),
+        sizes.bytes_per_monomer(),
+        mib(largest)
+    );
+    match GpuContext::new(&Requirements::default()) {
+        Ok(ctx) => {
+            println!("gpu: {}", ctx.summary());
+            match sizes.check(&ctx.device.limits()) {
+                Ok(()) => println!("gpu: N = {n} fits"),
+                Err(e) => println!("gpu: N = {n} does not fit: {e}"),
+            }
+        }
+        Err(e) => println!("gpu: none usable ({e}); runs use the cpu backend"),
+    }
 }
 
 fn main() -> ExitCode {
@@ -315,8 +378,9 @@ fn main() -> ExitCode {
         Command::Run {
             config,
             out,
+            backend,
             report,
-        } => run(config, out, report),
+        } => run(config, out, backend, report),
         Command::Resume { checkpoint, report } => resume(checkpoint, report),
         Command::Generate { config, out } => generate(config, out),
         Command::Fit {
@@ -325,7 +389,7 @@ fn main() -> ExitCode {
             phi2,
             p_min,
         } => fit(curve, phi1, phi2, p_min),
-        Command::Info { config } => info(config),
+        Command::Info { config, monomers } => info(config, monomers),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -15,8 +15,10 @@
 //! root at the branch end turns into up to √ulp; the test allows [`RELAXED_TOLERANCE`] there.
 //! In both modes every inelastic correction must fire on exactly the same records.
 
+mod common;
 mod gpu_support;
 
+use common::SplitMix64;
 use dustdem::gpu::context::context_for_tests;
 use dustdem::gpu::layout::GpuDamping;
 use dustdem::gpu::shader::{self, FloatMode};
@@ -26,7 +28,7 @@ use dustdem::model::{
     damping, normal, pointer, rolling, sliding, twisting, wall, ContactLaw, Damping, ModelOptions,
 };
 use glam::{DQuat, DVec3};
-use gpu_support::{run_probe, SplitMix64};
+use gpu_support::run_probe;
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
 

@@ -5,11 +5,13 @@
 //! modules may use only builtins this test holds bit-exact; the rest are measured and printed,
 //! so a new driver's behaviour is known before anyone relies on it.
 
+mod common;
 mod gpu_support;
 
+use common::SplitMix64;
 use dustdem::gpu::context::context_for_tests;
 use dustdem::gpu::shader::{assemble, FloatMode, Source, CAPABILITIES};
-use gpu_support::{run_probe, SplitMix64};
+use gpu_support::run_probe;
 
 const SAMPLES: usize = 256;
 

@@ -182,6 +182,41 @@ impl CpuEngine {
         Ok(engine)
     }
 
+    /// An engine holding exactly the given state, nothing recomputed: for reports (energy,
+    /// momenta) and tests on a state that another backend computed. `wall_force` is the force
+    /// each wall exerts now; the damping part of it is not kept, so a step taken from here books
+    /// the first step's wall damping work from zero.
+    #[allow(clippy::too_many_arguments)]
+    pub fn from_state(
+        law: ContactLaw,
+        dt: f64,
+        monomers: Monomers,
+        contacts: ContactTable,
+        walls: Vec<Wall>,
+        tally: Dissipation,
+        wall_work: f64,
+        wall_force: Vec<DVec3>,
+        step: u64,
+        time: f64,
+    ) -> Self {
+        let nw = walls.len();
+        CpuEngine {
+            law,
+            dt,
+            neighbours: NeighbourList::new(2.0 * law.radius, 0.2 * law.radius),
+            monomers,
+            contacts,
+            walls,
+            tally,
+            wall_work,
+            wall_force,
+            wall_damping: vec![DVec3::ZERO; nw],
+            step,
+            time,
+            pass_seconds: [0.0; 5],
+        }
+    }
+
     fn inverse_mass_inertia(&self) -> (f64, f64) {
         (1.0 / self.law.mass, 1.0 / self.law.moment_of_inertia)
     }

@@ -5,10 +5,78 @@
 use super::measure::{filling_factor, projected_area};
 use super::setup::{build_sample, build_walls, monomers_of, SetupError, TOP_WALL};
 use crate::config::{Config, ExperimentKind};
+use crate::cpu::state::Wall;
 use crate::cpu::{CpuEngine, EnergyReport, EngineError};
+use crate::gpu::engine::GpuError;
 use crate::io::binary::{DecodeError, Decoder, Encoder};
+use crate::model::ContactLaw;
 use crate::sample::{slab_profile, Footprint};
+use glam::DVec3;
+use std::borrow::Cow;
 use std::fmt;
+
+/// What a compression needs of a backend. The CPU reference and the GPU engine implement it;
+/// everything a row reports goes through it, so both backends write the same CSV.
+pub trait Engine {
+    fn law(&self) -> &ContactLaw;
+    /// Walls at the current time.
+    fn walls(&self) -> &[Wall];
+    fn monomer_count(&self) -> usize;
+    fn step_count(&self) -> u64;
+    fn time(&self) -> f64;
+    /// Advances `steps` steps and returns each wall's force on the monomers averaged over them.
+    fn run_mean_wall_force(&mut self, steps: u64) -> Result<Vec<DVec3>, RunError>;
+    fn positions(&self) -> Cow<'_, [DVec3]>;
+    /// (monomer–monomer contacts, monomer–wall contacts).
+    fn contact_counts(&self) -> (usize, usize);
+    fn energy(&self) -> EnergyReport;
+    /// The complete state as the CPU reference holds it (borrowed on the CPU, read back from
+    /// a device): for checkpoints, snapshots and failure reports.
+    fn state(&self) -> Cow<'_, CpuEngine>;
+}
+
+impl Engine for CpuEngine {
+    fn law(&self) -> &ContactLaw {
+        &self.law
+    }
+    fn walls(&self) -> &[Wall] {
+        &self.walls
+    }
+    fn monomer_count(&self) -> usize {
+        self.monomers.len()
+    }
+    fn step_count(&self) -> u64 {
+        self.step
+    }
+    fn time(&self) -> f64 {
+        self.time
+    }
+    fn run_mean_wall_force(&mut self, steps: u64) -> Result<Vec<DVec3>, RunError> {
+        let mut sum = vec![DVec3::ZERO; self.walls.len()];
+        for _ in 0..steps {
+            self.step()?;
+            for (s, f) in sum.iter_mut().zip(&self.wall_force) {
+                *s += *f;
+            }
+        }
+        Ok(sum.into_iter().map(|s| s / steps.max(1) as f64).collect())
+    }
+    fn positions(&self) -> Cow<'_, [DVec3]> {
+        Cow::Borrowed(&self.monomers.position)
+    }
+    fn contact_counts(&self) -> (usize, usize) {
+        (
+            self.contacts.pair_contact_count(),
+            self.contacts.wall_contact_count(),
+        )
+    }
+    fn energy(&self) -> EnergyReport {
+        CpuEngine::energy(self)
+    }
+    fn state(&self) -> Cow<'_, CpuEngine> {
+        Cow::Borrowed(self)
+    }
+}
 
 /// One measurement row.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -105,6 +173,7 @@ impl fmt::Display for StopReason {
 pub enum RunError {
     Setup(SetupError),
     Engine(EngineError),
+    Gpu(GpuError),
     Output(String),
     /// Stopped on request (SIGINT/SIGTERM) after writing a checkpoint.
     Interrupted {
@@ -117,6 +186,7 @@ impl fmt::Display for RunError {
         match self {
             RunError::Setup(e) => write!(f, "{e}"),
             RunError::Engine(e) => write!(f, "{e}"),
+            RunError::Gpu(e) => write!(f, "{e}"),
             RunError::Output(e) => write!(f, "{e}"),
             RunError::Interrupted { checkpoint } => write!(
                 f,
@@ -135,19 +205,28 @@ impl From<EngineError> for RunError {
     }
 }
 
+impl From<GpuError> for RunError {
+    fn from(e: GpuError) -> Self {
+        match e {
+            GpuError::Engine(e) => RunError::Engine(e),
+            other => RunError::Gpu(other),
+        }
+    }
+}
+
 /// What the run reports as it goes.
-pub enum Event<'a> {
+pub enum Event<'a, E: Engine = CpuEngine> {
     Row(&'a Row),
     /// Filling-factor profile in slabs one diameter thick: (slab centre height [cm], φ).
     Profile(&'a Row, &'a [(f64, f64)]),
     /// Everything of a row has been reported and the run will continue: a point where the
     /// state can be checkpointed (the report may return an error to stop here).
-    RowDone(&'a Compression),
+    RowDone(&'a Compression<E>),
 }
 
-pub struct Compression {
+pub struct Compression<E: Engine = CpuEngine> {
     pub kind: ExperimentKind,
-    pub engine: CpuEngine,
+    pub engine: E,
     /// Base of the box or cylinder the sample was made in.
     pub footprint: Footprint,
     average_steps: u64,
@@ -158,49 +237,7 @@ pub struct Compression {
     rows: u64,
 }
 
-impl Compression {
-    pub fn new(config: &Config) -> Result<Self, RunError> {
-        let law = config.contact_law();
-        let sample = build_sample(config, &law).map_err(RunError::Setup)?;
-        let walls = build_walls(config, &law, &sample).map_err(RunError::Setup)?;
-        let engine = CpuEngine::new(
-            law,
-            config.dt(),
-            monomers_of(&sample),
-            walls,
-            config.integration.pair_slots,
-            config.integration.wall_slots,
-        )?;
-        let e = &config.experiment;
-        Ok(Compression {
-            kind: e.kind,
-            engine,
-            footprint: sample.footprint.clone(),
-            average_steps: e.average_steps,
-            phi_stop: e.phi_stop,
-            pressure_stop: e.pressure_stop_pa,
-            max_steps: e.max_steps,
-            profile_every: e.profile_every_rows,
-            rows: 0,
-        })
-    }
-
-    /// The run's state for a checkpoint: footprint, rows reported, engine.
-    pub fn encode_state(&self, e: &mut Encoder) {
-        match self.footprint {
-            Footprint::Box { side } => {
-                e.u32(0);
-                e.f64(side);
-            }
-            Footprint::Cylinder { radius } => {
-                e.u32(1);
-                e.f64(radius);
-            }
-        }
-        e.u64(self.rows);
-        self.engine.encode_state(e);
-    }
-
+impl Compression<CpuEngine> {
     /// Continues a run from [`Compression::encode_state`]'s bytes under `config` (the one the
     /// checkpoint carries).
     pub fn decode_state(config: &Config, d: &mut Decoder) -> Result<Self, DecodeError> {
@@ -233,16 +270,83 @@ impl Compression {
         })
     }
 
+    /// The compression a config describes, on the CPU reference.
+    pub fn new(config: &Config) -> Result<Self, RunError> {
+        Self::with_engine(
+            config,
+            |law, dt, monomers, walls, pair_slots, wall_slots| {
+                Ok(CpuEngine::new(
+                    law, dt, monomers, walls, pair_slots, wall_slots,
+                )?)
+            },
+        )
+    }
+}
+
+impl<E: Engine> Compression<E> {
+    /// The run's state for a checkpoint: footprint, rows reported, engine.
+    pub fn encode_state(&self, e: &mut Encoder) {
+        match self.footprint {
+            Footprint::Box { side } => {
+                e.u32(0);
+                e.f64(side);
+            }
+            Footprint::Cylinder { radius } => {
+                e.u32(1);
+                e.f64(radius);
+            }
+        }
+        e.u64(self.rows);
+        self.engine.state().encode_state(e);
+    }
+
+    /// The compression a config describes, on the engine `build` makes of its initial state.
+    pub fn with_engine(
+        config: &Config,
+        build: impl FnOnce(
+            ContactLaw,
+            f64,
+            crate::cpu::state::Monomers,
+            Vec<Wall>,
+            usize,
+            usize,
+        ) -> Result<E, RunError>,
+    ) -> Result<Self, RunError> {
+        let law = config.contact_law();
+        let sample = build_sample(config, &law).map_err(RunError::Setup)?;
+        let walls = build_walls(config, &law, &sample).map_err(RunError::Setup)?;
+        let engine = build(
+            law,
+            config.dt(),
+            monomers_of(&sample),
+            walls,
+            config.integration.pair_slots,
+            config.integration.wall_slots,
+        )?;
+        let e = &config.experiment;
+        Ok(Compression {
+            kind: e.kind,
+            engine,
+            footprint: sample.footprint.clone(),
+            average_steps: e.average_steps,
+            phi_stop: e.phi_stop,
+            pressure_stop: e.pressure_stop_pa,
+            max_steps: e.max_steps,
+            profile_every: e.profile_every_rows,
+            rows: 0,
+        })
+    }
+
     /// Cross-section for φ and P: the box base (omni) or the projected area (uni).
     pub fn area(&self) -> f64 {
         match self.kind {
             ExperimentKind::Omni => self.footprint.area(),
-            _ => projected_area(&self.engine.monomers.position, self.engine.law.radius),
+            _ => projected_area(&self.engine.positions(), self.engine.law().radius),
         }
     }
 
     pub fn wall_gap(&self) -> f64 {
-        let w = &self.engine.walls;
+        let w = self.engine.walls();
         (w[TOP_WALL].point - w[0].point).dot(w[0].normal)
     }
 
@@ -250,29 +354,30 @@ impl Compression {
         let e = &self.engine;
         let area = self.area();
         let gap = self.wall_gap();
-        let v_mono = 4.0 / 3.0 * std::f64::consts::PI * e.law.radius.powi(3);
+        let v_mono = 4.0 / 3.0 * std::f64::consts::PI * e.law().radius.powi(3);
+        let (contacts, wall_contacts) = e.contact_counts();
         // dyn/cm² → Pa
         Row {
-            step: e.step,
-            time: e.time,
+            step: e.step_count(),
+            time: e.time(),
             wall_gap: gap,
             area,
-            phi: filling_factor(e.monomers.len(), v_mono, area, gap),
+            phi: filling_factor(e.monomer_count(), v_mono, area, gap),
             p_top: 0.1 * p_top / area,
             p_bottom: 0.1 * p_bottom / area,
-            contacts: e.contacts.pair_contact_count(),
-            wall_contacts: e.contacts.wall_contact_count(),
+            contacts,
+            wall_contacts,
             energy: e.energy(),
         }
     }
 
     pub fn profile(&self) -> Vec<(f64, f64)> {
         let e = &self.engine;
-        let r = e.law.radius;
-        let bottom = e.walls[0].point.z;
-        let top = e.walls[TOP_WALL].point.z;
+        let r = e.law().radius;
+        let bottom = e.walls()[0].point.z;
+        let top = e.walls()[TOP_WALL].point.z;
         slab_profile(
-            e.monomers.position.iter().map(|p| p.z),
+            e.positions().iter().map(|p| p.z),
             r,
             self.area(),
             bottom,
@@ -284,30 +389,26 @@ impl Compression {
     /// Runs until a stop rule fires, reporting rows (and profiles) through `report`.
     pub fn run(
         &mut self,
-        report: &mut dyn FnMut(Event) -> Result<(), RunError>,
+        report: &mut dyn FnMut(Event<E>) -> Result<(), RunError>,
     ) -> Result<StopReason, RunError> {
-        if self.engine.step == 0 {
+        if self.engine.step_count() == 0 {
             let first = self.measure(f64::NAN, f64::NAN);
             report(Event::Row(&first))?;
             report(Event::Profile(&first, &self.profile()))?;
         }
         loop {
-            let (mut top, mut bottom) = (0.0, 0.0);
-            for _ in 0..self.average_steps {
-                self.engine.step()?;
-                let w = &self.engine.walls;
-                top += self.engine.wall_force[TOP_WALL].dot(w[TOP_WALL].normal);
-                bottom += self.engine.wall_force[0].dot(w[0].normal);
-            }
-            let n = self.average_steps as f64;
-            let row = self.measure(top / n, bottom / n);
+            let mean = self.engine.run_mean_wall_force(self.average_steps)?;
+            let w = self.engine.walls();
+            let top = mean[TOP_WALL].dot(w[TOP_WALL].normal);
+            let bottom = mean[0].dot(w[0].normal);
+            let row = self.measure(top, bottom);
             self.rows += 1;
             report(Event::Row(&row))?;
             let stop = if row.phi >= self.phi_stop {
                 Some(StopReason::FillingFactor)
             } else if row.p_top >= self.pressure_stop {
                 Some(StopReason::Pressure)
-            } else if self.engine.step >= self.max_steps {
+            } else if self.engine.step_count() >= self.max_steps {
                 Some(StopReason::MaxSteps)
             } else {
                 None

@@ -88,8 +88,30 @@ pub const SHARED: &[Source] = &[
     wgsl!("shared/wall.wgsl"),
 ];
 
+/// Engine modules: import-only like the shared ones, but they may declare the engine's bindings
+/// (`bindings`) and use them (`interaction`, `cells`). A test checks this list against
+/// `shaders/engine/`.
+pub const ENGINE: &[Source] = &[
+    wgsl!("engine/bindings.wgsl"),
+    wgsl!("engine/cells.wgsl"),
+    wgsl!("engine/interaction.wgsl"),
+];
+
 /// Passes: files with entry points. A test checks this list against `shaders/`.
-pub const PASSES: &[Source] = &[wgsl!("contact_law_probe.wgsl")];
+pub const PASSES: &[Source] = &[
+    wgsl!("contact_law_probe.wgsl"),
+    wgsl!("integrate.wgsl"),
+    wgsl!("neighbours.wgsl"),
+    wgsl!("contacts.wgsl"),
+    wgsl!("forces.wgsl"),
+    wgsl!("walls.wgsl"),
+    wgsl!("reduce.wgsl"),
+];
+
+/// Every module a `// requires:` line may name: the shared ones, then the engine's.
+pub fn modules() -> Vec<Source> {
+    SHARED.iter().chain(ENGINE).copied().collect()
+}
 
 /// naga capabilities the shaders may use. They must stay within what
 /// [`super::context::REQUIRED_FEATURES`] asks of the device.
@@ -335,7 +357,7 @@ pub fn assemble_pass(name: &str) -> Result<Assembled, ShaderError> {
         .iter()
         .find(|p| p.name() == name)
         .ok_or_else(|| ShaderError::UnknownPass(name.to_string()))?;
-    assemble(pass, SHARED)
+    assemble(pass, &modules())
 }
 
 /// Assembles `file` with the modules it requires, taken from `shared`.
@@ -431,14 +453,16 @@ mod tests {
     fn every_shader_file_is_registered() {
         let shared: BTreeSet<String> = SHARED.iter().map(|s| s.path.to_string()).collect();
         let passes: BTreeSet<String> = PASSES.iter().map(|s| s.path.to_string()).collect();
+        let engine: BTreeSet<String> = ENGINE.iter().map(|s| s.path.to_string()).collect();
         assert_eq!(shared, wgsl_files("shaders/shared"));
+        assert_eq!(engine, wgsl_files("shaders/engine"));
         assert_eq!(passes, wgsl_files("shaders"));
     }
 
     #[test]
     fn every_pass_and_shared_module_validates() {
-        for file in PASSES.iter().chain(SHARED) {
-            let assembled = assemble(file, SHARED).unwrap_or_else(|e| panic!("{e}"));
+        for file in PASSES.iter().chain(SHARED).chain(ENGINE) {
+            let assembled = assemble(file, &modules()).unwrap_or_else(|e| panic!("{e}"));
             if let Err(e) = assembled.validate() {
                 panic!("{e}");
             }
@@ -456,8 +480,8 @@ mod tests {
 
     #[test]
     fn requirements_come_first_and_once() {
-        for file in PASSES.iter().chain(SHARED) {
-            let a = assemble(file, SHARED).unwrap();
+        for file in PASSES.iter().chain(SHARED).chain(ENGINE) {
+            let a = assemble(file, &modules()).unwrap();
             let order: Vec<_> = a.segments.iter().map(|s| s.path).collect();
             assert_eq!(*order.last().unwrap(), file.path);
             let unique: BTreeSet<_> = order.iter().collect();
@@ -466,12 +490,16 @@ mod tests {
                 let module = PASSES
                     .iter()
                     .chain(SHARED)
+                    .chain(ENGINE)
                     .find(|s| s.path == *path)
                     .unwrap();
                 for dep in module.requires() {
-                    let at = order
-                        .iter()
-                        .position(|p| SHARED.iter().any(|m| m.path == *p && m.name() == dep));
+                    let at = order.iter().position(|p| {
+                        SHARED
+                            .iter()
+                            .chain(ENGINE)
+                            .any(|m| m.path == *p && m.name() == dep)
+                    });
                     assert!(
                         at.is_some_and(|at| at < i),
                         "{path} needs {dep} first: {order:?}"

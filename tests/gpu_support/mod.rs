@@ -1,14 +1,10 @@
-//! What the GPU-vs-CPU tests share: a seeded generator and a one-dispatch runner for probe
+//! What the GPU-vs-CPU tests share: a one-dispatch runner for probe
 //! shaders that map flat f64 records to flat f64 records.
 
 #![allow(dead_code)]
 
 use dustdem::gpu::context::GpuContext;
 use wgpu::util::DeviceExt;
-
-#[path = "../common/mod.rs"]
-mod common;
-pub use common::SplitMix64;
 
 /// The probe shaders' uniform: number of records and the two record lengths (in f64s).
 #[repr(C)]

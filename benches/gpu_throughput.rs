@@ -1,0 +1,81 @@
+//! Throughput of the GPU engine (lavapipe here, whatever adapter the machine has elsewhere)
+//! next to the CPU reference: particle-steps per second on RBD samples under omnidirectional
+//! compression at 1 m/s, for N = 10³, 10⁴ (override with `DUSTDEM_BENCH_SIZES=1000,10000,100000`),
+//! with the time per pass of the GPU step. Prints a Markdown table.
+//!
+//! Run: `cargo bench --bench gpu_throughput`. Per-pass times come from repeating one pass alone
+//! in a submission, so they include the per-dispatch cost and do not add up to the step exactly.
+
+use dustdem::config::Config;
+use dustdem::experiment::compression::Compression;
+use dustdem::gpu::context::{GpuContext, Requirements};
+use dustdem::gpu::engine::GpuEngine;
+use dustdem::gpu::kernels::ENTRY_POINTS;
+use std::time::Instant;
+
+fn config(n: usize) -> Config {
+    let text = format!(
+        "[sample]\nmonomers = {n}\nseed = 1\n[experiment]\nkind = \"omni\"\nwall_speed_m_s = 1.0\n"
+    );
+    Config::parse(&text, "benchmark").expect("valid benchmark config")
+}
+
+fn main() {
+    let sizes: Vec<usize> = std::env::var("DUSTDEM_BENCH_SIZES")
+        .ok()
+        .map(|s| {
+            s.split(',')
+                .map(|x| x.trim().parse().expect("sizes are integers"))
+                .collect()
+        })
+        .unwrap_or_else(|| vec![1_000, 10_000]);
+    let probe = GpuContext::new(&Requirements::default()).expect("a GPU adapter with f64");
+    println!(
+        "adapter: {} ({:?} float mode)",
+        probe.summary().name,
+        probe.float_mode
+    );
+    drop(probe);
+    let names: Vec<&str> = GpuEngine::STEP
+        .iter()
+        .map(|k| ENTRY_POINTS[*k as usize].1)
+        .collect();
+    println!(
+        "| N | steps | GPU particle-steps/s | CPU particle-steps/s | GPU/CPU | GPU µs/step | {} |",
+        names.join(" µs | ") + " µs"
+    );
+    println!("|---|---|---|---|---|---|{}", "---|".repeat(names.len()));
+    for n in sizes {
+        let steps = (1e7 / n as f64).clamp(200.0, 5_000.0) as u64;
+        let cfg = config(n);
+
+        let mut cpu = Compression::new(&cfg).expect("setup");
+        cpu.engine.run(steps / 10).expect("warm-up");
+        let clock = Instant::now();
+        cpu.engine.run(steps).expect("run");
+        let cpu_rate = n as f64 * steps as f64 / clock.elapsed().as_secs_f64();
+
+        let ctx = GpuContext::new(&Requirements::default()).expect("adapter");
+        let mut gpu = Compression::with_engine(&cfg, |law, dt, m, w, ps, ws| {
+            Ok(GpuEngine::new(ctx, law, dt, m, w, ps, ws)?)
+        })
+        .expect("setup");
+        gpu.engine.run(steps / 10).expect("warm-up");
+        let clock = Instant::now();
+        gpu.engine.run(steps).expect("run");
+        let seconds = clock.elapsed().as_secs_f64();
+        let gpu_rate = n as f64 * steps as f64 / seconds;
+        let passes: Vec<String> = gpu
+            .engine
+            .time_kernels(20)
+            .iter()
+            .map(|(_, s)| format!("{:.0}", s * 1e6))
+            .collect();
+        println!(
+            "| {n} | {steps} | {gpu_rate:.3e} | {cpu_rate:.3e} | {:.2} | {:.0} | {} |",
+            gpu_rate / cpu_rate,
+            1e6 * seconds / steps as f64,
+            passes.join(" | ")
+        );
+    }
+}

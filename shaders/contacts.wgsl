@@ -1,0 +1,166 @@
+// requires: bindings cells interaction wall math
+//
+// Contact maintenance pass, twin of update_contacts in src/cpu/contacts.rs: breaks stretched
+// contacts (δ < −δ_c) and forms new ones (δ ≥ 0), keeping the history of every contact that
+// persists. One invocation per owner: it alone writes the owner's slots, so no two invocations
+// touch the same contact.
+//
+// Order as on the CPU: broken slots are replaced by the last one (swap-remove); new pair contacts
+// are appended in increasing partner index (the CPU's candidate list is sorted), found by
+// repeatedly taking the smallest untaken partner above the last one; new wall contacts are
+// appended in wall order. The energies of the events go to the owner's own tally.
+
+fn has_pair(i: u32, count: u32, j: u32) -> bool {
+    for (var slot = 0u; slot < count; slot++) {
+        if pair_partner[i * params.pair_slots + slot] == j {
+            return true;
+        }
+    }
+    return false;
+}
+
+fn has_wall(i: u32, count: u32, w: u32) -> bool {
+    for (var slot = 0u; slot < count; slot++) {
+        if wall_id[i * params.wall_slots + slot] == w {
+            return true;
+        }
+    }
+    return false;
+}
+
+// Smallest j > after with 2r − |x_i − x_j| ≥ 0 that is not yet a partner of i, or NO_MONOMER.
+fn next_partner(i: u32, x: vec3<f64>, after: u32, count: u32) -> u32 {
+    let r = params.radius;
+    let c = cell_of(x);
+    var best = NO_MONOMER;
+    for (var dx = -1; dx <= 1; dx++) {
+        for (var dy = -1; dy <= 1; dy++) {
+            for (var dz = -1; dz <= 1; dz++) {
+                let b = bucket_of(c + vec3<i32>(dx, dy, dz));
+                let in_bucket = min(atomicLoad(&bucket_count[b]), params.bucket_capacity);
+                for (var k = 0u; k < in_bucket; k++) {
+                    let j = bucket_items[b * params.bucket_capacity + k];
+                    if j <= after || j >= best {
+                        continue;
+                    }
+                    let distance = vec_length(x - position[j].xyz);
+                    if !(2.0lf * r - distance < 0.0lf) && !has_pair(i, count, j) {
+                        best = j;
+                    }
+                }
+            }
+        }
+    }
+    return best;
+}
+
+@compute @workgroup_size(64)
+fn contacts(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= params.n {
+        return;
+    }
+    let r = params.radius;
+    let x = position[i].xyz;
+    let base = i * params.pair_slots;
+
+    // Break.
+    var count = pair_count[i];
+    var slot = 0u;
+    while slot < count {
+        let idx = base + slot;
+        let j = pair_partner[idx];
+        let delta = 2.0lf * r - vec_length(x - position[j].xyz);
+        if delta < -params.pair.delta_c {
+            let a = pair_n1[idx];
+            add_tally(i, TALLY_BREAKING, pair_step_energy(i, j, a.xyz, pair_n2[idx].xyz, a.w));
+            let last = base + count - 1u;
+            pair_n1[idx] = pair_n1[last];
+            pair_n2[idx] = pair_n2[last];
+            pair_partner[idx] = pair_partner[last];
+            count -= 1u;
+        } else {
+            slot += 1u;
+        }
+    }
+    let wall_base = i * params.wall_slots;
+    var wcount = wall_count[i];
+    slot = 0u;
+    while slot < wcount {
+        let idx = wall_base + slot;
+        let w = walls[wall_id[idx]];
+        let delta = wall_overlap(x, w.point.xyz, w.normal.xyz, r);
+        if delta < -w.k.delta_c {
+            let a = wall_n1[idx];
+            add_tally(i, TALLY_WALLS, wall_step_energy(i, w, a.xyz, wall_anchor[idx].xyz, a.w));
+            let last = wall_base + wcount - 1u;
+            wall_n1[idx] = wall_n1[last];
+            wall_anchor[idx] = wall_anchor[last];
+            wall_id[idx] = wall_id[last];
+            wcount -= 1u;
+        } else {
+            slot += 1u;
+        }
+    }
+
+    // Form pair contacts, partners in increasing index.
+    var after = i;
+    loop {
+        let j = next_partner(i, x, after, count);
+        if j == NO_MONOMER {
+            break;
+        }
+        if count >= params.pair_slots {
+            flag(FLAG_PAIR_SLOTS, i);
+            break;
+        }
+        let d = x - position[j].xyz;
+        let distance = vec_length(d);
+        let nc = d / distance;
+        let n1 = -nc;
+        let n2 = nc;
+        add_tally(i, TALLY_FORMING, -pair_step_energy(i, j, n1, n2, 0.0lf));
+        let idx = base + count;
+        pair_n1[idx] = vec4<f64>(n1, 0.0lf);
+        pair_n2[idx] = vec4<f64>(n2, 0.0lf);
+        pair_partner[idx] = j;
+        count += 1u;
+        after = j;
+    }
+    pair_count[i] = count;
+
+    // Form wall contacts, in wall order.
+    for (var w_idx = 0u; w_idx < params.wall_count; w_idx++) {
+        let w = walls[w_idx];
+        let normal = w.normal.xyz;
+        if wall_overlap(x, w.point.xyz, normal, r) < 0.0lf || has_wall(i, wcount, w_idx) {
+            continue;
+        }
+        if wcount >= params.wall_slots {
+            flag(FLAG_WALL_SLOTS, i);
+            break;
+        }
+        let n1 = -normal;
+        let anchor = x - normal * r;
+        add_tally(i, TALLY_WALLS, -wall_step_energy(i, w, n1, anchor, 0.0lf));
+        let idx = wall_base + wcount;
+        wall_n1[idx] = vec4<f64>(n1, 0.0lf);
+        wall_anchor[idx] = vec4<f64>(anchor, 0.0lf);
+        wall_id[idx] = w_idx;
+        wcount += 1u;
+    }
+    wall_count[i] = wcount;
+}
+
+// Contacts present at the start are part of the initial state, not a dissipation
+// (CpuEngine::new resets the tally after its first update_contacts).
+@compute @workgroup_size(64)
+fn contacts_clear_tally(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= params.n {
+        return;
+    }
+    for (var c = 0u; c < TALLY_STRIDE; c++) {
+        tally[i * TALLY_STRIDE + c] = 0.0lf;
+    }
+}

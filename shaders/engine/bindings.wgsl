@@ -1,0 +1,144 @@
+// The engine's device state: one bind group shared by every pass, so the step script binds it
+// once and every pipeline has the same explicit layout (SPIR-V passthrough modules cannot be
+// reflected). Mirrored by src/gpu/buffers.rs (binding numbers) and src/gpu/layout.rs (structs);
+// a test reads these structs with naga and checks sizes and offsets against the Rust side.
+//
+// Vectors are vec4<f64> (32 bytes, the w component unused unless named), so every array element
+// is naturally aligned and a vector is one load.
+
+// Contact constants of one contact kind (material::ContactConstants, same order).
+struct Constants {
+    reduced_radius: f64,
+    a0: f64,
+    delta0: f64,
+    f_c: f64,
+    delta_c: f64,
+    k_r: f64,
+    k_s: f64,
+    k_t: f64,
+    xi_crit: f64,
+    zeta_crit: f64,
+    phi_crit: f64,
+    _pad: f64,
+}
+
+struct Params {
+    // Monomers, walls, slots per monomer.
+    n: u32,
+    wall_count: u32,
+    pair_slots: u32,
+    wall_slots: u32,
+    // Hash table of cells: size − 1 (a power of two), ids per bucket.
+    table_mask: u32,
+    bucket_capacity: u32,
+    // Damping::kind of shared/damping.wgsl.
+    damping_kind: u32,
+    _pad: u32,
+    dt: f64,
+    radius: f64,
+    inverse_mass: f64,
+    inverse_inertia: f64,
+    // Edge of a binning cell [cm], ≥ the contact distance 2r.
+    cell: f64,
+    e_star: f64,
+    poisson: f64,
+    damping_value: f64,
+    pair: Constants,
+}
+
+// A planar wall; `normal` points into the domain. The point moves with `velocity`.
+struct Wall {
+    point: vec4<f64>,
+    normal: vec4<f64>,
+    velocity: vec4<f64>,
+    k: Constants,
+}
+
+// Walls the diagnostics block has room for.
+const MAX_WALLS: u32 = 8u;
+// Pair contacts a monomer can take from owners of lower index (equal spheres touch at most 12).
+const INCOMING_CAPACITY: u32 = 16u;
+// Monomers one invocation of reduce_walls sums, in index order.
+const REDUCE_BLOCK: u32 = 64u;
+
+// Overflow and failure flags: the lowest monomer index concerned, or NO_MONOMER.
+const NO_MONOMER: u32 = 0xffffffffu;
+const FLAG_PAIR_SLOTS: u32 = 0u;
+const FLAG_WALL_SLOTS: u32 = 1u;
+const FLAG_BUCKET: u32 = 2u;
+const FLAG_INCOMING: u32 = 3u;
+const FLAG_NON_FINITE: u32 = 4u;
+
+// Per-monomer cumulative energy channels (cpu::state::Dissipation, then the wall work).
+const TALLY_STRIDE: u32 = 8u;
+const TALLY_BREAKING: u32 = 0u;
+const TALLY_FORMING: u32 = 1u;
+const TALLY_DAMPING: u32 = 2u;
+const TALLY_ROLLING: u32 = 3u;
+const TALLY_SLIDING: u32 = 4u;
+const TALLY_TWISTING: u32 = 5u;
+const TALLY_WALLS: u32 = 6u;
+const TALLY_WALL_WORK: u32 = 7u;
+
+// The diagnostics block (f64): tally sums, contact counts, wall forces now and summed.
+const DIAG_TALLY: u32 = 0u;
+const DIAG_PAIR_CONTACTS: u32 = 8u;
+const DIAG_WALL_CONTACTS: u32 = 9u;
+const DIAG_STEPS: u32 = 10u;
+const DIAG_WALL_FORCE: u32 = 16u;
+const DIAG_WALL_FORCE_SUM: u32 = 48u;
+const DIAG_SIZE: u32 = 80u;
+
+@group(0) @binding(0) var<storage, read_write> params: Params;
+@group(0) @binding(1) var<storage, read_write> walls: array<Wall>;
+@group(0) @binding(2) var<storage, read_write> position: array<vec4<f64>>;
+@group(0) @binding(3) var<storage, read_write> velocity: array<vec4<f64>>;
+@group(0) @binding(4) var<storage, read_write> angular_velocity: array<vec4<f64>>;
+@group(0) @binding(5) var<storage, read_write> force: array<vec4<f64>>;
+@group(0) @binding(6) var<storage, read_write> torque: array<vec4<f64>>;
+@group(0) @binding(7) var<storage, read_write> damping_force: array<vec4<f64>>;
+// x: inverse-mass scale, y: inverse-inertia scale, z: Σ_w F_w·v_w dt and w: the same for the
+// damping part, of the monomer's wall contacts at the current step (trapezoid bookkeeping).
+@group(0) @binding(8) var<storage, read_write> aux: array<vec4<f64>>;
+@group(0) @binding(9) var<storage, read_write> tally: array<f64>;
+// Pair slots, `pair_slots` per owner: pointer of the owner (w: twist integral), pointer of the
+// partner, partner index; the count per owner.
+@group(0) @binding(10) var<storage, read_write> pair_n1: array<vec4<f64>>;
+@group(0) @binding(11) var<storage, read_write> pair_n2: array<vec4<f64>>;
+@group(0) @binding(12) var<storage, read_write> pair_partner: array<u32>;
+@group(0) @binding(13) var<storage, read_write> pair_count: array<u32>;
+// Per-contact results of the forces pass, two vectors per slot: (force on the owner, its
+// damping part) and (torque on the owner, torque on the partner).
+@group(0) @binding(14) var<storage, read_write> pair_force: array<vec4<f64>>;
+@group(0) @binding(15) var<storage, read_write> pair_torque: array<vec4<f64>>;
+// Wall slots, `wall_slots` per monomer: pointer (w: twist), anchor, wall index; the count.
+@group(0) @binding(16) var<storage, read_write> wall_n1: array<vec4<f64>>;
+@group(0) @binding(17) var<storage, read_write> wall_anchor: array<vec4<f64>>;
+@group(0) @binding(18) var<storage, read_write> wall_id: array<u32>;
+@group(0) @binding(19) var<storage, read_write> wall_count: array<u32>;
+// Force of each wall contact on its monomer, for the per-wall reduction.
+@group(0) @binding(20) var<storage, read_write> wall_force: array<vec4<f64>>;
+// Pair slots (owner · pair_slots + slot) whose partner is this monomer, INCOMING_CAPACITY per
+// monomer, in arrival order; sorted before they are summed.
+@group(0) @binding(21) var<storage, read_write> incoming: array<u32>;
+@group(0) @binding(22) var<storage, read_write> incoming_count: array<atomic<u32>>;
+// Cell hash table: ids per bucket and their count.
+@group(0) @binding(23) var<storage, read_write> bucket_count: array<atomic<u32>>;
+@group(0) @binding(24) var<storage, read_write> bucket_items: array<u32>;
+// Per-block partial wall forces, MAX_WALLS per block of REDUCE_BLOCK monomers.
+@group(0) @binding(25) var<storage, read_write> partials: array<vec4<f64>>;
+@group(0) @binding(26) var<storage, read_write> flags: array<atomic<u32>>;
+@group(0) @binding(27) var<storage, read_write> diag: array<f64>;
+
+fn wall_at(w: u32) -> Wall {
+    return walls[w];
+}
+
+fn add_tally(i: u32, channel: u32, value: f64) {
+    let at = i * TALLY_STRIDE + channel;
+    tally[at] = tally[at] + value;
+}
+
+fn flag(which: u32, monomer: u32) {
+    atomicMin(&flags[which], monomer);
+}

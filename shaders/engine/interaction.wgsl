@@ -1,0 +1,124 @@
+// requires: bindings normal damping rolling sliding twisting wall math
+//
+// One contact's forces, torques, potential and step energy: the twins of pair_interaction,
+// pair_contact_potential and pair_step_energy (src/cpu/forces.rs, src/cpu/contacts.rs) and of
+// wall_interaction, wall_contact_potential and wall_step_energy (src/cpu/walls.rs,
+// src/cpu/contacts.rs), same operations in the same order. Contact history is passed by value
+// (n1, n2 or anchor, twist) because it lives in separate arrays on the device.
+
+// (force on 1, damping part of it, torque on 1, torque on 2).
+struct PairInteraction {
+    f: vec3<f64>,
+    fd: vec3<f64>,
+    m1: vec3<f64>,
+    m2: vec3<f64>,
+}
+
+// (force on the monomer, damping part of it, torque on it).
+struct WallInteraction {
+    f: vec3<f64>,
+    fd: vec3<f64>,
+    m: vec3<f64>,
+}
+
+fn law_damping() -> Damping {
+    return Damping(params.damping_kind, params.damping_value);
+}
+
+fn pair_interaction(
+    x1: vec3<f64>,
+    x2: vec3<f64>,
+    v1: vec3<f64>,
+    v2: vec3<f64>,
+    n1: vec3<f64>,
+    n2: vec3<f64>,
+    twist: f64,
+) -> PairInteraction {
+    let k = params.pair;
+    let r = params.radius;
+    let d = x1 - x2;
+    let distance = vec_length(d);
+    let nc = d / distance;
+    let x = jkr_contact_radius_ratio((2.0lf * r - distance) / k.delta0);
+    let normal = nc * jkr_force(x, k.f_c);
+    let coefficient = damping_coefficient(law_damping(), x * k.a0, params.e_star, params.poisson);
+    let damping = nc * (-coefficient * vec_dot(v1 - v2, nc));
+
+    let xi = rolling_displacement(n1, n2, k.reduced_radius);
+    let zeta = sliding_displacement(n1, n2, nc, r, r);
+    let slide = sliding_force(zeta, n1, n2, nc, r, r, distance, k.k_s);
+    let twist_torque = twisting_torque(twist, nc, k.k_t);
+    let torque1 = rolling_torque(n1, xi, k.reduced_radius, k.k_r)
+        + sliding_torque(n1, zeta, r, k.k_s, 1.0lf)
+        + twist_torque;
+    let torque2 = rolling_torque(n2, xi, k.reduced_radius, k.k_r)
+        + sliding_torque(n2, zeta, r, k.k_s, -1.0lf)
+        - twist_torque;
+    return PairInteraction(normal + damping + slide, damping, torque1, torque2);
+}
+
+fn pair_contact_potential(x1: vec3<f64>, x2: vec3<f64>, n1: vec3<f64>, n2: vec3<f64>, twist: f64) -> f64 {
+    let k = params.pair;
+    let r = params.radius;
+    let d = x1 - x2;
+    let distance = vec_length(d);
+    let nc = d / distance;
+    let delta = 2.0lf * r - distance;
+    let xi = rolling_displacement(n1, n2, k.reduced_radius);
+    let zeta = sliding_displacement(n1, n2, nc, r, r);
+    return jkr_potential_at_overlap(delta / k.delta0, k.f_c, k.delta0)
+        + rolling_potential(xi, k.k_r)
+        + sliding_potential(zeta, k.k_s)
+        + twisting_potential(twist, k.k_t);
+}
+
+// Potential plus half the work of the contact's conservative forces over the step just taken
+// (see pair_step_energy in src/cpu/forces.rs for why).
+fn pair_step_energy(i: u32, j: u32, n1: vec3<f64>, n2: vec3<f64>, twist: f64) -> f64 {
+    let x1 = position[i].xyz;
+    let x2 = position[j].xyz;
+    let v1 = velocity[i].xyz;
+    let v2 = velocity[j].xyz;
+    let it = pair_interaction(x1, x2, v1, v2, n1, n2, twist);
+    let work = vec_dot(it.f - it.fd, v1 - v2)
+        + vec_dot(it.m1, angular_velocity[i].xyz)
+        + vec_dot(it.m2, angular_velocity[j].xyz);
+    return pair_contact_potential(x1, x2, n1, n2, twist) + 0.5lf * params.dt * work;
+}
+
+fn wall_interaction(x: vec3<f64>, v: vec3<f64>, wall: Wall, n1: vec3<f64>, anchor: vec3<f64>, twist: f64) -> WallInteraction {
+    let k = wall.k;
+    let r = params.radius;
+    let n = wall.normal.xyz;
+    let x_ratio = jkr_contact_radius_ratio(wall_overlap(x, wall.point.xyz, n, r) / k.delta0);
+    let normal = n * jkr_force(x_ratio, k.f_c);
+    let coefficient = damping_coefficient(law_damping(), x_ratio * k.a0, params.e_star, params.poisson);
+    let damping = n * (-coefficient * vec_dot(v - wall.velocity.xyz, n));
+    let xi = wall_rolling_displacement(n1, n, r);
+    let zeta = wall_sliding_displacement(x, n1, r, anchor, n);
+    let torque = rolling_torque(n1, xi, r, k.k_r)
+        + sliding_torque(n1, zeta, r, k.k_s, 1.0lf)
+        + twisting_torque(twist, n, k.k_t);
+    return WallInteraction(normal + damping + wall_sliding_force(zeta, k.k_s), damping, torque);
+}
+
+fn wall_contact_potential(x: vec3<f64>, wall: Wall, n1: vec3<f64>, anchor: vec3<f64>, twist: f64) -> f64 {
+    let k = wall.k;
+    let r = params.radius;
+    let n = wall.normal.xyz;
+    let delta = wall_overlap(x, wall.point.xyz, n, r);
+    let xi = wall_rolling_displacement(n1, n, r);
+    let zeta = wall_sliding_displacement(x, n1, r, anchor, n);
+    return jkr_potential_at_overlap(delta / k.delta0, k.f_c, k.delta0)
+        + rolling_potential(xi, k.k_r)
+        + sliding_potential(zeta, k.k_s)
+        + twisting_potential(twist, k.k_t);
+}
+
+fn wall_step_energy(i: u32, wall: Wall, n1: vec3<f64>, anchor: vec3<f64>, twist: f64) -> f64 {
+    let x = position[i].xyz;
+    let v = velocity[i].xyz;
+    let it = wall_interaction(x, v, wall, n1, anchor, twist);
+    let work = vec_dot(it.f - it.fd, v - wall.velocity.xyz) + vec_dot(it.m, angular_velocity[i].xyz);
+    return wall_contact_potential(x, wall, n1, anchor, twist) + 0.5lf * params.dt * work;
+}

@@ -1,0 +1,68 @@
+// requires: bindings interaction rolling sliding twisting math
+//
+// Monomer–monomer force pass, twin of pair_forces in src/cpu/forces.rs: inelastic corrections
+// first (booked per channel as the drop of the contact's step energy), then JKR, damping,
+// rolling, sliding and twisting.
+//
+// WGSL has no f64 atomics, so the pass does not add into the monomers' accumulators. Each owner
+// invocation evaluates its contacts where their history lives, stores the result per slot and
+// registers the slot with the partner (`incoming`); the walls pass then gathers per monomer in
+// the CPU's order (incoming by owner index, then the monomer's own slots), deterministic and
+// bit-identical to the CPU sums.
+
+@compute @workgroup_size(64)
+fn forces(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= params.n {
+        return;
+    }
+    let k = params.pair;
+    let r = params.radius;
+    let x1 = position[i].xyz;
+    let v1 = velocity[i].xyz;
+    for (var slot = 0u; slot < pair_count[i]; slot++) {
+        let idx = i * params.pair_slots + slot;
+        let j = pair_partner[idx];
+        let x2 = position[j].xyz;
+        var n1 = pair_n1[idx].xyz;
+        var n2 = pair_n2[idx].xyz;
+        var twist = pair_n1[idx].w;
+
+        // apply_inelastic_limits: rolling, sliding, twisting.
+        let nc = vec_normalize(x1 - x2);
+        let rolled = rolling_correction(n1, n2, k.reduced_radius, k.xi_crit);
+        if rolled.changed {
+            let before = pair_step_energy(i, j, n1, n2, twist);
+            n1 = rolled.n1;
+            n2 = rolled.n2;
+            add_tally(i, TALLY_ROLLING, before - pair_step_energy(i, j, n1, n2, twist));
+        }
+        let slid = sliding_correction(n1, n2, nc, r, r, k.zeta_crit);
+        if slid.changed {
+            let before = pair_step_energy(i, j, n1, n2, twist);
+            n1 = slid.n1;
+            n2 = slid.n2;
+            add_tally(i, TALLY_SLIDING, before - pair_step_energy(i, j, n1, n2, twist));
+        }
+        let twisted = twisting_correction(twist, k.phi_crit);
+        if twisted.changed {
+            let before = pair_step_energy(i, j, n1, n2, twist);
+            twist = twisted.twist;
+            add_tally(i, TALLY_TWISTING, before - pair_step_energy(i, j, n1, n2, twist));
+        }
+        pair_n1[idx] = vec4<f64>(n1, twist);
+        pair_n2[idx] = vec4<f64>(n2, 0.0lf);
+
+        let it = pair_interaction(x1, x2, v1, velocity[j].xyz, n1, n2, twist);
+        pair_force[2u * idx] = vec4<f64>(it.f, 0.0lf);
+        pair_force[2u * idx + 1u] = vec4<f64>(it.fd, 0.0lf);
+        pair_torque[2u * idx] = vec4<f64>(it.m1, 0.0lf);
+        pair_torque[2u * idx + 1u] = vec4<f64>(it.m2, 0.0lf);
+        let at = atomicAdd(&incoming_count[j], 1u);
+        if at < INCOMING_CAPACITY {
+            incoming[j * INCOMING_CAPACITY + at] = idx;
+        } else {
+            flag(FLAG_INCOMING, j);
+        }
+    }
+}

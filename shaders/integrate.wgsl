@@ -1,0 +1,104 @@
+// requires: bindings pointer twisting math
+//
+// Leap-frog pass, twin of src/cpu/integrate.rs: kick v(n−½) → v(n+½) with the forces at n, turn
+// contact pointers and advance twist integrals with the mid-step angular velocities, drift
+// positions and walls.
+//
+// The CPU does this in three loops over the monomers, and the contact loop reads the partner's
+// kicked velocity and its position before the drift. On the device the loops are three entry
+// points (three dispatches), because a dispatch boundary is the only barrier between
+// invocations: integrate_kick, integrate (pointers and twist, per owner), integrate_drift.
+// integrate_start is the half-step shift of the initial velocities (CpuEngine::new).
+
+@compute @workgroup_size(64)
+fn integrate_kick(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= params.n {
+        return;
+    }
+    let s = aux[i];
+    let v = velocity[i].xyz + force[i].xyz * (params.dt * params.inverse_mass * s.x);
+    let w = angular_velocity[i].xyz + torque[i].xyz * (params.dt * params.inverse_inertia * s.y);
+    velocity[i] = vec4<f64>(v, 0.0lf);
+    angular_velocity[i] = vec4<f64>(w, 0.0lf);
+}
+
+@compute @workgroup_size(64)
+fn integrate(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= params.n {
+        return;
+    }
+    let dt = params.dt;
+    let xi = position[i].xyz;
+    let vi = velocity[i].xyz;
+    let wi = angular_velocity[i].xyz;
+    let turn_i = wi * dt;
+    for (var slot = 0u; slot < pair_count[i]; slot++) {
+        let idx = i * params.pair_slots + slot;
+        let j = pair_partner[idx];
+        let a = pair_n1[idx];
+        let b = pair_n2[idx];
+        let wj = angular_velocity[j].xyz;
+        // Contact normal at mid-step, x(n+½) = x(n) + v(n+½) dt/2.
+        let nc_mid = vec_normalize((xi - position[j].xyz) + (vi - velocity[j].xyz) * (0.5lf * dt));
+        let twist = a.w + twist_increment(wi - wj, nc_mid, dt);
+        pair_n1[idx] = vec4<f64>(rotate_pointer(a.xyz, turn_i), twist);
+        pair_n2[idx] = vec4<f64>(rotate_pointer(b.xyz, wj * dt), 0.0lf);
+    }
+    for (var slot = 0u; slot < wall_count[i]; slot++) {
+        let idx = i * params.wall_slots + slot;
+        let a = wall_n1[idx];
+        let normal = walls[wall_id[idx]].normal.xyz;
+        let twist = a.w + twist_increment(wi, normal, dt);
+        wall_n1[idx] = vec4<f64>(rotate_pointer(a.xyz, turn_i), twist);
+    }
+}
+
+@compute @workgroup_size(64)
+fn integrate_drift(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i < params.wall_count {
+        let w = walls[i];
+        walls[i].point = vec4<f64>(w.point.xyz + w.velocity.xyz * params.dt, 0.0lf);
+    }
+    if i >= params.n {
+        return;
+    }
+    let x = position[i].xyz + velocity[i].xyz * params.dt;
+    position[i] = vec4<f64>(x, 0.0lf);
+    // Not finite: |x| ≤ max is false for NaN and for ±∞.
+    let v = velocity[i].xyz;
+    let limit = 1.0e300lf;
+    let finite = abs(x.x) <= limit && abs(x.y) <= limit && abs(x.z) <= limit
+        && abs(v.x) <= limit && abs(v.y) <= limit && abs(v.z) <= limit;
+    if !finite {
+        flag(FLAG_NON_FINITE, i);
+    }
+}
+
+@compute @workgroup_size(64)
+fn integrate_start(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= params.n {
+        return;
+    }
+    let half = 0.5lf * params.dt;
+    let s = aux[i];
+    let v = velocity[i].xyz - force[i].xyz * (half * params.inverse_mass * s.x);
+    let w = angular_velocity[i].xyz - torque[i].xyz * (half * params.inverse_inertia * s.y);
+    velocity[i] = vec4<f64>(v, 0.0lf);
+    angular_velocity[i] = vec4<f64>(w, 0.0lf);
+}
+
+// After the initial force evaluation: the damping and wall-work channels book work over a step,
+// and there is no step before time 0.
+@compute @workgroup_size(64)
+fn integrate_clear_work(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= params.n {
+        return;
+    }
+    tally[i * TALLY_STRIDE + TALLY_DAMPING] = 0.0lf;
+    tally[i * TALLY_STRIDE + TALLY_WALL_WORK] = 0.0lf;
+}

@@ -1,0 +1,100 @@
+// requires: bindings
+//
+// Reductions into the diagnostics block, all in a fixed order (no float atomics exist, and a
+// fixed order makes every run give the same bits):
+// - reduce_walls (every step): each invocation sums the wall-contact forces of REDUCE_BLOCK
+//   consecutive monomers per wall; reduce_walls_final adds the blocks in order: the total force
+//   each wall exerts at the current step, and its running sum since the host last read it.
+// - reduce_diagnostics (when the host reads the block): the per-monomer energy tallies and the
+//   contact counts, by one workgroup: strided partial sums, then added in invocation order.
+
+@compute @workgroup_size(64)
+fn reduce_walls(@builtin(global_invocation_id) id: vec3<u32>) {
+    let block = id.x;
+    let first = block * REDUCE_BLOCK;
+    if first >= params.n {
+        return;
+    }
+    var sums: array<vec3<f64>, MAX_WALLS>;
+    for (var w = 0u; w < MAX_WALLS; w++) {
+        sums[w] = vec3<f64>(0.0lf);
+    }
+    let end = min(first + REDUCE_BLOCK, params.n);
+    for (var i = first; i < end; i++) {
+        for (var slot = 0u; slot < wall_count[i]; slot++) {
+            let idx = i * params.wall_slots + slot;
+            let w = wall_id[idx];
+            sums[w] = sums[w] + wall_force[idx].xyz;
+        }
+    }
+    for (var w = 0u; w < params.wall_count; w++) {
+        partials[block * MAX_WALLS + w] = vec4<f64>(sums[w], 0.0lf);
+    }
+}
+
+@compute @workgroup_size(8)
+fn reduce_walls_final(@builtin(global_invocation_id) id: vec3<u32>) {
+    let w = id.x;
+    if w == 0u {
+        diag[DIAG_STEPS] = diag[DIAG_STEPS] + 1.0lf;
+    }
+    if w >= params.wall_count {
+        return;
+    }
+    let blocks = (params.n + REDUCE_BLOCK - 1u) / REDUCE_BLOCK;
+    var sum = vec3<f64>(0.0lf);
+    for (var b = 0u; b < blocks; b++) {
+        sum = sum + partials[b * MAX_WALLS + w].xyz;
+    }
+    for (var c = 0u; c < 3u; c++) {
+        diag[DIAG_WALL_FORCE + 4u * w + c] = sum[c];
+        let at = DIAG_WALL_FORCE_SUM + 4u * w + c;
+        diag[at] = diag[at] + sum[c];
+    }
+}
+
+const DIAG_THREADS: u32 = 64u;
+var<workgroup> part_tally: array<array<f64, TALLY_STRIDE>, DIAG_THREADS>;
+var<workgroup> part_pairs: array<u32, DIAG_THREADS>;
+var<workgroup> part_walls: array<u32, DIAG_THREADS>;
+
+@compute @workgroup_size(64)
+fn reduce_diagnostics(@builtin(local_invocation_index) t: u32) {
+    var sums: array<f64, TALLY_STRIDE>;
+    for (var c = 0u; c < TALLY_STRIDE; c++) {
+        sums[c] = 0.0lf;
+    }
+    var pairs = 0u;
+    var wall_contacts = 0u;
+    for (var i = t; i < params.n; i += DIAG_THREADS) {
+        for (var c = 0u; c < TALLY_STRIDE; c++) {
+            sums[c] = sums[c] + tally[i * TALLY_STRIDE + c];
+        }
+        pairs += pair_count[i];
+        wall_contacts += wall_count[i];
+    }
+    part_tally[t] = sums;
+    part_pairs[t] = pairs;
+    part_walls[t] = wall_contacts;
+    workgroupBarrier();
+    if t == 0u {
+        var total: array<f64, TALLY_STRIDE>;
+        for (var c = 0u; c < TALLY_STRIDE; c++) {
+            total[c] = 0.0lf;
+        }
+        var p = 0u;
+        var q = 0u;
+        for (var k = 0u; k < DIAG_THREADS; k++) {
+            for (var c = 0u; c < TALLY_STRIDE; c++) {
+                total[c] = total[c] + part_tally[k][c];
+            }
+            p += part_pairs[k];
+            q += part_walls[k];
+        }
+        for (var c = 0u; c < TALLY_STRIDE; c++) {
+            diag[DIAG_TALLY + c] = total[c];
+        }
+        diag[DIAG_PAIR_CONTACTS] = f64(p);
+        diag[DIAG_WALL_CONTACTS] = f64(q);
+    }
+}

@@ -1,0 +1,284 @@
+//! The engine's device buffers, one per binding of shaders/engine/bindings.wgsl (same numbers,
+//! same order), and what they cost per monomer.
+//!
+//! Buffers are data only; the pipelines that use them are in `kernels.rs`. Everything is created
+//! once for a fixed N and slot counts; nothing is reallocated while the engine runs.
+
+use super::layout::{
+    GpuParams, GpuWall, DIAG_SIZE, FLAG_COUNT, INCOMING_CAPACITY, MAX_WALLS, REDUCE_BLOCK,
+    TALLY_STRIDE,
+};
+use std::fmt;
+
+/// Bytes of one vec4<f64>.
+const VEC4: u64 = 32;
+
+/// Binding names in binding order (index = binding number of bindings.wgsl).
+pub const BINDINGS: [&str; 28] = [
+    "params",
+    "walls",
+    "position",
+    "velocity",
+    "angular_velocity",
+    "force",
+    "torque",
+    "damping_force",
+    "aux",
+    "tally",
+    "pair_n1",
+    "pair_n2",
+    "pair_partner",
+    "pair_count",
+    "pair_force",
+    "pair_torque",
+    "wall_n1",
+    "wall_anchor",
+    "wall_id",
+    "wall_count",
+    "wall_force",
+    "incoming",
+    "incoming_count",
+    "bucket_count",
+    "bucket_items",
+    "partials",
+    "flags",
+    "diag",
+];
+
+/// Sizes of the engine's arrays for one problem.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Sizes {
+    pub monomers: usize,
+    pub walls: usize,
+    pub pair_slots: usize,
+    pub wall_slots: usize,
+    /// Buckets of the cell hash table (a power of two, ≥ 2N).
+    pub table: usize,
+    /// Ids per bucket.
+    pub bucket_capacity: usize,
+}
+
+/// Ids one bucket of the cell table holds. Cells have edge 2r, so a cell holds at most ~4
+/// monomers at φ = 0.74 and a bucket a few more where hashed cells share it.
+pub const DEFAULT_BUCKET_CAPACITY: usize = 16;
+
+impl Sizes {
+    pub fn new(monomers: usize, walls: usize, pair_slots: usize, wall_slots: usize) -> Self {
+        Sizes {
+            monomers,
+            walls,
+            pair_slots,
+            wall_slots,
+            table: (2 * monomers.max(1)).next_power_of_two(),
+            bucket_capacity: DEFAULT_BUCKET_CAPACITY,
+        }
+    }
+
+    /// Bytes of every binding, in binding order.
+    pub fn binding_bytes(&self) -> [u64; 28] {
+        let n = self.monomers as u64;
+        let ps = self.pair_slots as u64;
+        let ws = self.wall_slots as u64;
+        let blocks = self.monomers.div_ceil(REDUCE_BLOCK) as u64;
+        [
+            std::mem::size_of::<GpuParams>() as u64,
+            self.walls.max(1) as u64 * std::mem::size_of::<GpuWall>() as u64,
+            n * VEC4,
+            n * VEC4,
+            n * VEC4,
+            n * VEC4,
+            n * VEC4,
+            n * VEC4,
+            n * VEC4,
+            n * TALLY_STRIDE as u64 * 8,
+            n * ps * VEC4,
+            n * ps * VEC4,
+            n * ps * 4,
+            n * 4,
+            n * ps * 2 * VEC4,
+            n * ps * 2 * VEC4,
+            n * ws * VEC4,
+            n * ws * VEC4,
+            n * ws * 4,
+            n * 4,
+            n * ws * VEC4,
+            n * INCOMING_CAPACITY as u64 * 4,
+            n * 4,
+            self.table as u64 * 4,
+            self.table as u64 * self.bucket_capacity as u64 * 4,
+            blocks * MAX_WALLS as u64 * VEC4,
+            FLAG_COUNT as u64 * 4,
+            DIAG_SIZE as u64 * 8,
+        ]
+    }
+
+    /// Total device memory [B].
+    pub fn total_bytes(&self) -> u64 {
+        self.binding_bytes().iter().sum()
+    }
+
+    /// Device memory per monomer [B] (the table's share included).
+    pub fn bytes_per_monomer(&self) -> f64 {
+        self.total_bytes() as f64 / self.monomers.max(1) as f64
+    }
+
+    /// The largest binding and its name.
+    pub fn largest_binding(&self) -> (&'static str, u64) {
+        let bytes = self.binding_bytes();
+        let (i, b) = bytes
+            .iter()
+            .enumerate()
+            .max_by_key(|(_, b)| **b)
+            .expect("28 bindings");
+        (BINDINGS[i], *b)
+    }
+
+    /// Checks the problem against the device's limits.
+    pub fn check(&self, limits: &wgpu::Limits) -> Result<(), SizeError> {
+        if self.walls > MAX_WALLS {
+            return Err(SizeError::TooManyWalls { walls: self.walls });
+        }
+        let (name, bytes) = self.largest_binding();
+        if bytes > limits.max_storage_buffer_binding_size {
+            return Err(SizeError::Binding {
+                name,
+                bytes,
+                limit: limits.max_storage_buffer_binding_size,
+                monomers: self.monomers,
+            });
+        }
+        if bytes > limits.max_buffer_size {
+            return Err(SizeError::Binding {
+                name,
+                bytes,
+                limit: limits.max_buffer_size,
+                monomers: self.monomers,
+            });
+        }
+        if (BINDINGS.len() as u32) > limits.max_storage_buffers_per_shader_stage {
+            return Err(SizeError::StorageBuffers {
+                needed: BINDINGS.len() as u32,
+                limit: limits.max_storage_buffers_per_shader_stage,
+            });
+        }
+        let groups = self.monomers.max(self.table).div_ceil(64) as u64;
+        if groups > u64::from(limits.max_compute_workgroups_per_dimension) {
+            return Err(SizeError::Workgroups {
+                groups,
+                limit: limits.max_compute_workgroups_per_dimension,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// A problem the device cannot hold.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SizeError {
+    TooManyWalls {
+        walls: usize,
+    },
+    Binding {
+        name: &'static str,
+        bytes: u64,
+        limit: u64,
+        monomers: usize,
+    },
+    StorageBuffers {
+        needed: u32,
+        limit: u32,
+    },
+    Workgroups {
+        groups: u64,
+        limit: u32,
+    },
+}
+
+impl fmt::Display for SizeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SizeError::TooManyWalls { walls } => {
+                write!(
+                    f,
+                    "{walls} walls; the GPU engine handles at most {MAX_WALLS}"
+                )
+            }
+            SizeError::Binding {
+                name,
+                bytes,
+                limit,
+                monomers,
+            } => write!(
+                f,
+                "{monomers} monomers need {bytes} B in the `{name}` binding, the device allows \
+                 {limit} B per storage binding (lower N or [integration] pair_slots)"
+            ),
+            SizeError::StorageBuffers { needed, limit } => write!(
+                f,
+                "the GPU engine binds {needed} storage buffers per pass, the device allows {limit}"
+            ),
+            SizeError::Workgroups { groups, limit } => write!(
+                f,
+                "{groups} workgroups per dispatch, the device allows {limit}"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for SizeError {}
+
+/// One wgpu buffer per binding, plus the staging buffer for the small readback.
+#[derive(Debug)]
+pub struct Buffers {
+    pub sizes: Sizes,
+    /// In binding order.
+    pub bindings: Vec<wgpu::Buffer>,
+    /// Flags then diag, mapped by the host after each batch of steps.
+    pub small_readback: wgpu::Buffer,
+}
+
+pub const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
+    .union(wgpu::BufferUsages::COPY_SRC)
+    .union(wgpu::BufferUsages::COPY_DST);
+
+impl Buffers {
+    /// Zero-filled buffers (at least 64 bytes each: no binding may be empty).
+    pub fn new(device: &wgpu::Device, sizes: Sizes) -> Self {
+        let bindings = BINDINGS
+            .iter()
+            .zip(sizes.binding_bytes())
+            .map(|(name, bytes)| {
+                device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(name),
+                    size: bytes.max(64).next_multiple_of(8),
+                    usage: STORAGE,
+                    mapped_at_creation: false,
+                })
+            })
+            .collect();
+        let small_readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("small readback"),
+            size: Self::small_bytes(),
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Buffers {
+            sizes,
+            bindings,
+            small_readback,
+        }
+    }
+
+    pub fn get(&self, name: &str) -> &wgpu::Buffer {
+        let i = BINDINGS
+            .iter()
+            .position(|b| *b == name)
+            .unwrap_or_else(|| panic!("no binding `{name}`"));
+        &self.bindings[i]
+    }
+
+    /// Flags (u32, padded to 8 bytes) then the diagnostics block (f64).
+    pub fn small_bytes() -> u64 {
+        (FLAG_COUNT as u64 * 4).next_multiple_of(8) + DIAG_SIZE as u64 * 8
+    }
+}

@@ -1,0 +1,741 @@
+//! The GPU backend: the CPU reference's passes as WGSL compute shaders on device-resident
+//! buffers, driven by a linear step script.
+//!
+//! The host uploads the state once, then encodes `readback_every` steps (10 dispatches each,
+//! one compute pass) per submission and reads back only the small block: overflow flags, the
+//! wall forces (current and summed over the batch), contact counts and the energy tally. The
+//! full state comes back only on request (tests, snapshots, energy reports).
+
+use super::buffers::{Buffers, SizeError, Sizes};
+use super::context::{ContextError, GpuContext};
+use super::kernels::{Kernel, Kernels};
+use super::layout::{self, vec4, GpuConstants, GpuDamping, GpuParams, GpuWall};
+use super::shader::ShaderError;
+use crate::cpu::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
+use crate::cpu::{CpuEngine, EnergyReport, EngineError};
+use crate::experiment::compression::{Engine, RunError};
+use crate::model::ContactLaw;
+use glam::DVec3;
+use std::borrow::Cow;
+use std::fmt;
+
+/// Steps per submission (and between reads of the small block) unless set otherwise.
+pub const DEFAULT_READBACK_EVERY: u64 = 100;
+
+/// Everything that can stop the GPU engine.
+#[derive(Debug)]
+pub enum GpuError {
+    Context(ContextError),
+    Shader(ShaderError),
+    Size(SizeError),
+    /// Slot overflow or a non-finite state, as the CPU engine reports them.
+    Engine(EngineError),
+    /// More monomers hashed to one bucket of the cell table than it holds.
+    BucketOverflow {
+        monomer: usize,
+        capacity: usize,
+    },
+    /// More contacts with owners of lower index than the gather list holds.
+    IncomingOverflow {
+        monomer: usize,
+        capacity: usize,
+    },
+}
+
+impl fmt::Display for GpuError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            GpuError::Context(e) => write!(f, "{e}"),
+            GpuError::Shader(e) => write!(f, "{e}"),
+            GpuError::Size(e) => write!(f, "{e}"),
+            GpuError::Engine(e) => write!(f, "{e}"),
+            GpuError::BucketOverflow { monomer, capacity } => write!(
+                f,
+                "monomer {monomer} found its cell-table bucket full ({capacity} ids); monomers \
+                 overlap far beyond contact, or raise gpu::buffers::DEFAULT_BUCKET_CAPACITY"
+            ),
+            GpuError::IncomingOverflow { monomer, capacity } => write!(
+                f,
+                "monomer {monomer} has more than {capacity} contacts with lower-index monomers \
+                 (gpu::layout::INCOMING_CAPACITY); monomers overlap far beyond contact"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for GpuError {}
+
+impl From<ContextError> for GpuError {
+    fn from(e: ContextError) -> Self {
+        GpuError::Context(e)
+    }
+}
+impl From<ShaderError> for GpuError {
+    fn from(e: ShaderError) -> Self {
+        GpuError::Shader(e)
+    }
+}
+impl From<SizeError> for GpuError {
+    fn from(e: SizeError) -> Self {
+        GpuError::Size(e)
+    }
+}
+impl From<EngineError> for GpuError {
+    fn from(e: EngineError) -> Self {
+        GpuError::Engine(e)
+    }
+}
+
+/// The small block, as last read.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Diagnostics {
+    /// Energy tally summed over monomers.
+    pub tally: Dissipation,
+    pub wall_work: f64,
+    pub pair_contacts: usize,
+    pub wall_contacts: usize,
+    /// Total force of each wall on the monomers at the current step.
+    pub wall_force: Vec<DVec3>,
+    /// Mean of the per-step wall forces over the steps since the previous read.
+    pub mean_wall_force: Vec<DVec3>,
+    /// Steps in that mean.
+    pub mean_steps: u64,
+}
+
+/// The whole simulation state of the GPU backend.
+#[derive(Debug)]
+pub struct GpuEngine {
+    pub ctx: GpuContext,
+    pub law: ContactLaw,
+    pub dt: f64,
+    /// Walls at the current time; the host moves the points by the same additions as the
+    /// device (cheaper than reading them back).
+    pub walls: Vec<Wall>,
+    pub sizes: Sizes,
+    kernels: Kernels,
+    buffers: Buffers,
+    bind_group: wgpu::BindGroup,
+    pub step: u64,
+    pub time: f64,
+    /// Steps per submission and between reads of the small block.
+    pub readback_every: u64,
+    diagnostics: Diagnostics,
+}
+
+fn groups(n: usize) -> u32 {
+    n.div_ceil(64).max(1) as u32
+}
+
+impl GpuEngine {
+    /// Builds the engine as [`CpuEngine::new`] does (same arguments, same initial state):
+    /// finds the initial contacts, computes the forces at time 0 and shifts the velocities back
+    /// half a step, all on the device.
+    pub fn new(
+        ctx: GpuContext,
+        law: ContactLaw,
+        dt: f64,
+        monomers: Monomers,
+        walls: Vec<Wall>,
+        pair_slots: usize,
+        wall_slots: usize,
+    ) -> Result<Self, GpuError> {
+        let n = monomers.len();
+        let table = ContactTable::new(n, pair_slots, wall_slots);
+        let mut engine = Self::with_state(ctx, law, dt, &monomers, &table, walls)?;
+        let mut encoder = engine
+            .ctx
+            .device
+            .create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_bind_group(0, &engine.bind_group, &[]);
+            engine.encode(
+                &mut pass,
+                &[
+                    Kernel::NeighboursClear,
+                    Kernel::Neighbours,
+                    Kernel::Contacts,
+                    Kernel::ContactsClearTally,
+                    Kernel::Forces,
+                    Kernel::WallForces,
+                    Kernel::ReduceWalls,
+                    Kernel::ReduceWallsFinal,
+                    Kernel::IntegrateClearWork,
+                    Kernel::IntegrateStart,
+                ],
+            );
+        }
+        engine.ctx.queue.submit([encoder.finish()]);
+        engine.read_small()?;
+        // The running wall-force sum starts with the first step.
+        engine.clear_wall_force_sum();
+        Ok(engine)
+    }
+
+    /// An engine holding exactly the given state (forces, torques and velocities as they are:
+    /// nothing is recomputed). Per-pass tests start the CPU and the GPU twin from it.
+    pub fn with_state(
+        ctx: GpuContext,
+        law: ContactLaw,
+        dt: f64,
+        monomers: &Monomers,
+        table: &ContactTable,
+        walls: Vec<Wall>,
+    ) -> Result<Self, GpuError> {
+        let sizes = Sizes::new(
+            monomers.len(),
+            walls.len(),
+            table.pair_slots,
+            table.wall_slots,
+        );
+        sizes.check(&ctx.device.limits())?;
+        let kernels = Kernels::new(&ctx)?;
+        let buffers = Buffers::new(&ctx.device, sizes);
+        let bind_group = kernels.bind_group(&ctx.device, &buffers);
+        let mut engine = GpuEngine {
+            ctx,
+            law,
+            dt,
+            walls,
+            sizes,
+            kernels,
+            buffers,
+            bind_group,
+            step: 0,
+            time: 0.0,
+            readback_every: DEFAULT_READBACK_EVERY,
+            diagnostics: Diagnostics::default(),
+        };
+        engine.upload(monomers, table);
+        Ok(engine)
+    }
+
+    fn params(&self) -> GpuParams {
+        let law = &self.law;
+        let damping = GpuDamping::from(law.damping);
+        GpuParams {
+            n: self.sizes.monomers as u32,
+            wall_count: self.walls.len() as u32,
+            pair_slots: self.sizes.pair_slots as u32,
+            wall_slots: self.sizes.wall_slots as u32,
+            table_mask: (self.sizes.table - 1) as u32,
+            bucket_capacity: self.sizes.bucket_capacity as u32,
+            damping_kind: damping.kind,
+            _pad: 0,
+            dt: self.dt,
+            radius: law.radius,
+            inverse_mass: 1.0 / law.mass,
+            inverse_inertia: 1.0 / law.moment_of_inertia,
+            cell: 2.0 * law.radius,
+            e_star: law.e_star,
+            poisson: law.poisson,
+            damping_value: damping.value,
+            pair: GpuConstants::from(law.pair),
+        }
+    }
+
+    fn write<T: bytemuck::Pod>(&self, name: &str, data: &[T]) {
+        if !data.is_empty() {
+            self.ctx
+                .queue
+                .write_buffer(self.buffers.get(name), 0, bytemuck::cast_slice(data));
+        }
+    }
+
+    /// Writes the whole state to the device; tallies, flags and the diagnostics block start
+    /// from zero (flags from "none").
+    pub fn upload(&mut self, m: &Monomers, table: &ContactTable) {
+        let n = m.len();
+        let v4 = |v: &[DVec3]| v.iter().map(|x| vec4(*x)).collect::<Vec<_>>();
+        self.write("params", &[self.params()]);
+        let walls: Vec<GpuWall> = self
+            .walls
+            .iter()
+            .map(|w| GpuWall {
+                point: vec4(w.point),
+                normal: vec4(w.normal),
+                velocity: vec4(w.velocity),
+                k: GpuConstants::from(w.constants),
+            })
+            .collect();
+        self.write("walls", &walls);
+        self.write("position", &v4(&m.position));
+        self.write("velocity", &v4(&m.velocity));
+        self.write("angular_velocity", &v4(&m.angular_velocity));
+        self.write("force", &v4(&m.force));
+        self.write("torque", &v4(&m.torque));
+        self.write("damping_force", &v4(&m.damping_force));
+        // The previous step's wall powers of each monomer (Σ_w F·v_w dt and its damping part).
+        let mut aux = Vec::with_capacity(n);
+        for i in 0..n {
+            let (mut p, mut q) = (0.0, 0.0);
+            for c in table.walls_of(i) {
+                let w = &self.walls[c.wall as usize];
+                let (f, fd, _) = crate::cpu::walls::wall_interaction(
+                    &self.law,
+                    m.position[i],
+                    m.velocity[i],
+                    w,
+                    c,
+                );
+                p += f.dot(w.velocity * self.dt);
+                q += fd.dot(w.velocity * self.dt);
+            }
+            aux.push([m.inverse_mass_scale[i], m.inverse_inertia_scale[i], p, q]);
+        }
+        self.write("aux", &aux);
+        self.write("tally", &vec![0.0f64; n * layout::TALLY_STRIDE]);
+        let n1: Vec<[f64; 4]> = table
+            .pair
+            .iter()
+            .map(|c| [c.n1.x, c.n1.y, c.n1.z, c.twist])
+            .collect();
+        let n2: Vec<[f64; 4]> = table.pair.iter().map(|c| vec4(c.n2)).collect();
+        let partner: Vec<u32> = table.pair.iter().map(|c| c.partner).collect();
+        self.write("pair_n1", &n1);
+        self.write("pair_n2", &n2);
+        self.write("pair_partner", &partner);
+        self.write("pair_count", &table.pair_count);
+        let wn1: Vec<[f64; 4]> = table
+            .wall
+            .iter()
+            .map(|c| [c.n1.x, c.n1.y, c.n1.z, c.twist])
+            .collect();
+        let anchor: Vec<[f64; 4]> = table.wall.iter().map(|c| vec4(c.anchor)).collect();
+        let wall_id: Vec<u32> = table.wall.iter().map(|c| c.wall).collect();
+        self.write("wall_n1", &wn1);
+        self.write("wall_anchor", &anchor);
+        self.write("wall_id", &wall_id);
+        self.write("wall_count", &table.wall_count);
+        self.write("incoming_count", &vec![0u32; n]);
+        self.write("flags", &[layout::NO_MONOMER; layout::FLAG_COUNT]);
+        self.write("diag", &[0.0f64; layout::DIAG_SIZE]);
+    }
+
+    fn encode(&self, pass: &mut wgpu::ComputePass<'_>, kernels: &[Kernel]) {
+        let n = self.sizes.monomers;
+        for &k in kernels {
+            let count = match k {
+                Kernel::NeighboursClear => groups(self.sizes.table),
+                Kernel::IntegrateDrift => groups(n.max(self.walls.len())),
+                Kernel::ReduceWalls => groups(n.div_ceil(layout::REDUCE_BLOCK)),
+                Kernel::ReduceWallsFinal | Kernel::ReduceDiagnostics => 1,
+                _ => groups(n),
+            };
+            pass.set_pipeline(self.kernels.pipeline(k));
+            pass.dispatch_workgroups(count, 1, 1);
+        }
+    }
+
+    /// The dispatches of one step, in order.
+    pub const STEP: [Kernel; 10] = [
+        Kernel::IntegrateKick,
+        Kernel::Integrate,
+        Kernel::IntegrateDrift,
+        Kernel::NeighboursClear,
+        Kernel::Neighbours,
+        Kernel::Contacts,
+        Kernel::Forces,
+        Kernel::WallForces,
+        Kernel::ReduceWalls,
+        Kernel::ReduceWallsFinal,
+    ];
+
+    /// Runs the given kernels once, in order, in one submission, and waits (tests of a pass).
+    pub fn dispatch(&mut self, kernels: &[Kernel]) {
+        let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            self.encode(&mut pass, kernels);
+        }
+        self.ctx.queue.submit([encoder.finish()]);
+        self.wait();
+    }
+
+    /// Seconds per dispatch of each kernel of [`GpuEngine::STEP`], from `repeats` dispatches of
+    /// that kernel alone in one submission. For benchmarks only: the repeated passes leave the
+    /// state where no sequence of steps would (kicked `repeats` times, for instance).
+    pub fn time_kernels(&mut self, repeats: u32) -> Vec<(Kernel, f64)> {
+        Self::STEP
+            .iter()
+            .map(|&k| {
+                let clock = std::time::Instant::now();
+                self.dispatch(&vec![k; repeats as usize]);
+                (k, clock.elapsed().as_secs_f64() / f64::from(repeats))
+            })
+            .collect()
+    }
+
+    fn wait(&self) {
+        self.ctx
+            .device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .expect("waiting for the device");
+    }
+
+    /// Advances one step (one submission: prefer [`GpuEngine::run`]).
+    pub fn step(&mut self) -> Result<(), GpuError> {
+        self.run(1)
+    }
+
+    /// Advances `steps` steps, `readback_every` per submission, reading the small block after
+    /// each submission. An overflow or a non-finite state stops the run at the end of the
+    /// submission in which it happened.
+    pub fn run(&mut self, steps: u64) -> Result<(), GpuError> {
+        let mut left = steps;
+        while left > 0 {
+            let batch = left.min(self.readback_every.max(1));
+            let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
+            {
+                let mut pass = encoder.begin_compute_pass(&Default::default());
+                pass.set_bind_group(0, &self.bind_group, &[]);
+                for _ in 0..batch {
+                    self.encode(&mut pass, &Self::STEP);
+                }
+            }
+            self.ctx.queue.submit([encoder.finish()]);
+            // The device moves the walls the same way, so these points equal its own.
+            for _ in 0..batch {
+                for w in &mut self.walls {
+                    w.point += w.velocity * self.dt;
+                }
+            }
+            self.step += batch;
+            self.time += batch as f64 * self.dt;
+            left -= batch;
+            self.read_small()?;
+            self.clear_wall_force_sum();
+        }
+        Ok(())
+    }
+
+    fn clear_wall_force_sum(&self) {
+        let zeros = [0.0f64; layout::DIAG_SIZE - layout::DIAG_WALL_FORCE_SUM];
+        self.ctx.queue.write_buffer(
+            self.buffers.get("diag"),
+            (layout::DIAG_WALL_FORCE_SUM * 8) as u64,
+            bytemuck::cast_slice(&zeros),
+        );
+        self.ctx.queue.write_buffer(
+            self.buffers.get("diag"),
+            (layout::DIAG_STEPS * 8) as u64,
+            bytemuck::bytes_of(&0.0f64),
+        );
+    }
+
+    /// Reduces the tallies and counts, reads flags and the diagnostics block, and turns a raised
+    /// flag into its error.
+    fn read_small(&mut self) -> Result<(), GpuError> {
+        let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            self.encode(&mut pass, &[Kernel::ReduceDiagnostics]);
+        }
+        let flag_bytes = (layout::FLAG_COUNT * 4) as u64;
+        let flags_at = 0;
+        let diag_at = flag_bytes.next_multiple_of(8);
+        encoder.copy_buffer_to_buffer(
+            self.buffers.get("flags"),
+            0,
+            &self.buffers.small_readback,
+            flags_at,
+            flag_bytes,
+        );
+        encoder.copy_buffer_to_buffer(
+            self.buffers.get("diag"),
+            0,
+            &self.buffers.small_readback,
+            diag_at,
+            (layout::DIAG_SIZE * 8) as u64,
+        );
+        self.ctx.queue.submit([encoder.finish()]);
+        let bytes = map_read(
+            &self.ctx,
+            &self.buffers.small_readback,
+            Buffers::small_bytes(),
+        );
+        let flags: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes[..flag_bytes as usize]);
+        let diag: Vec<f64> = bytemuck::pod_collect_to_vec(&bytes[diag_at as usize..]);
+        let t = &diag[..layout::TALLY_STRIDE];
+        let nw = self.walls.len();
+        let wall = |base: usize, w: usize| {
+            DVec3::new(
+                diag[base + 4 * w],
+                diag[base + 4 * w + 1],
+                diag[base + 4 * w + 2],
+            )
+        };
+        let steps = diag[layout::DIAG_STEPS];
+        self.diagnostics = Diagnostics {
+            tally: Dissipation {
+                breaking: t[0],
+                forming: t[1],
+                damping: t[2],
+                rolling: t[3],
+                sliding: t[4],
+                twisting: t[5],
+                walls: t[6],
+            },
+            wall_work: t[7],
+            pair_contacts: diag[layout::DIAG_PAIR_CONTACTS] as usize,
+            wall_contacts: diag[layout::DIAG_WALL_CONTACTS] as usize,
+            wall_force: (0..nw).map(|w| wall(layout::DIAG_WALL_FORCE, w)).collect(),
+            mean_wall_force: (0..nw)
+                .map(|w| wall(layout::DIAG_WALL_FORCE_SUM, w) / steps.max(1.0))
+                .collect(),
+            mean_steps: steps as u64,
+        };
+        let raised = |f: usize| (flags[f] != layout::NO_MONOMER).then_some(flags[f] as usize);
+        if let Some(monomer) = raised(layout::FLAG_PAIR_SLOTS) {
+            return Err(EngineError::SlotOverflow {
+                kind: "monomer-monomer",
+                // Flags are read once per batch: the overflow happened within it.
+                step: self.step,
+                monomer,
+                limit: self.sizes.pair_slots,
+            }
+            .into());
+        }
+        if let Some(monomer) = raised(layout::FLAG_WALL_SLOTS) {
+            return Err(EngineError::SlotOverflow {
+                kind: "monomer-wall",
+                step: self.step,
+                monomer,
+                limit: self.sizes.wall_slots,
+            }
+            .into());
+        }
+        if let Some(monomer) = raised(layout::FLAG_BUCKET) {
+            return Err(GpuError::BucketOverflow {
+                monomer,
+                capacity: self.sizes.bucket_capacity,
+            });
+        }
+        if let Some(monomer) = raised(layout::FLAG_INCOMING) {
+            return Err(GpuError::IncomingOverflow {
+                monomer,
+                capacity: layout::INCOMING_CAPACITY,
+            });
+        }
+        if let Some(monomer) = raised(layout::FLAG_NON_FINITE) {
+            return Err(EngineError::NonFinite {
+                step: self.step,
+                monomer,
+            }
+            .into());
+        }
+        Ok(())
+    }
+
+    /// Reads the small block now (after [`GpuEngine::dispatch`] of single passes).
+    pub fn refresh_diagnostics(&mut self) -> Result<&Diagnostics, GpuError> {
+        self.read_small()?;
+        Ok(&self.diagnostics)
+    }
+
+    /// The small block as last read (after `new` and after every submission of `run`).
+    pub fn diagnostics(&self) -> &Diagnostics {
+        &self.diagnostics
+    }
+
+    /// Total force each wall exerts on the monomers at the current time.
+    pub fn wall_force(&self) -> &[DVec3] {
+        &self.diagnostics.wall_force
+    }
+
+    fn read<T: bytemuck::Pod>(&self, name: &str, count: usize) -> Vec<T> {
+        let bytes = (count * std::mem::size_of::<T>()) as u64;
+        if bytes == 0 {
+            return Vec::new();
+        }
+        let staging = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("state readback"),
+            size: bytes.next_multiple_of(8),
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(
+            self.buffers.get(name),
+            0,
+            &staging,
+            0,
+            bytes.next_multiple_of(8),
+        );
+        self.ctx.queue.submit([encoder.finish()]);
+        let raw = map_read(&self.ctx, &staging, bytes.next_multiple_of(8));
+        bytemuck::pod_collect_to_vec(&raw[..bytes as usize])
+    }
+
+    fn read_vec3(&self, name: &str, count: usize) -> Vec<DVec3> {
+        self.read::<[f64; 4]>(name, count)
+            .into_iter()
+            .map(|v| DVec3::new(v[0], v[1], v[2]))
+            .collect()
+    }
+
+    /// Positions at the current time (a full-array readback).
+    pub fn positions(&self) -> Vec<DVec3> {
+        self.read_vec3("position", self.sizes.monomers)
+    }
+
+    /// The monomers as the CPU engine stores them.
+    pub fn monomers(&self) -> Monomers {
+        let n = self.sizes.monomers;
+        let aux: Vec<[f64; 4]> = self.read("aux", n);
+        Monomers {
+            position: self.positions(),
+            velocity: self.read_vec3("velocity", n),
+            angular_velocity: self.read_vec3("angular_velocity", n),
+            force: self.read_vec3("force", n),
+            torque: self.read_vec3("torque", n),
+            damping_force: self.read_vec3("damping_force", n),
+            inverse_mass_scale: aux.iter().map(|a| a[0]).collect(),
+            inverse_inertia_scale: aux.iter().map(|a| a[1]).collect(),
+        }
+    }
+
+    /// The contact history as the CPU engine stores it (slots beyond the counts are whatever
+    /// the device left there).
+    pub fn contacts(&self) -> ContactTable {
+        let n = self.sizes.monomers;
+        let (ps, ws) = (self.sizes.pair_slots, self.sizes.wall_slots);
+        let mut table = ContactTable::new(n, ps, ws);
+        let n1: Vec<[f64; 4]> = self.read("pair_n1", n * ps);
+        let n2: Vec<[f64; 4]> = self.read("pair_n2", n * ps);
+        let partner: Vec<u32> = self.read("pair_partner", n * ps);
+        table.pair_count = self.read("pair_count", n);
+        for (k, c) in table.pair.iter_mut().enumerate() {
+            *c = PairContact {
+                partner: partner[k],
+                n1: DVec3::new(n1[k][0], n1[k][1], n1[k][2]),
+                n2: DVec3::new(n2[k][0], n2[k][1], n2[k][2]),
+                twist: n1[k][3],
+            };
+        }
+        let wn1: Vec<[f64; 4]> = self.read("wall_n1", n * ws);
+        let anchor: Vec<[f64; 4]> = self.read("wall_anchor", n * ws);
+        let wall_id: Vec<u32> = self.read("wall_id", n * ws);
+        table.wall_count = self.read("wall_count", n);
+        for (k, c) in table.wall.iter_mut().enumerate() {
+            *c = WallContact {
+                wall: wall_id[k],
+                n1: DVec3::new(wn1[k][0], wn1[k][1], wn1[k][2]),
+                anchor: DVec3::new(anchor[k][0], anchor[k][1], anchor[k][2]),
+                twist: wn1[k][3],
+            };
+        }
+        table
+    }
+
+    /// Walls with their current points as the device holds them.
+    pub fn current_walls(&self) -> Vec<Wall> {
+        let gpu: Vec<GpuWall> = self.read("walls", self.walls.len());
+        self.walls
+            .iter()
+            .zip(gpu)
+            .map(|(w, g)| Wall {
+                point: DVec3::new(g.point[0], g.point[1], g.point[2]),
+                ..w.clone()
+            })
+            .collect()
+    }
+
+    /// Per-monomer energy tallies (the seven dissipation channels, then the wall work).
+    pub fn monomer_tallies(&self) -> Vec<[f64; layout::TALLY_STRIDE]> {
+        self.read("tally", self.sizes.monomers)
+    }
+
+    /// The full state as a CPU engine (for energy and momentum reports, snapshots and tests).
+    /// The tally and wall work are those of the last small-block read.
+    pub fn snapshot(&self) -> CpuEngine {
+        CpuEngine::from_state(
+            self.law,
+            self.dt,
+            self.monomers(),
+            self.contacts(),
+            self.current_walls(),
+            self.diagnostics.tally,
+            self.diagnostics.wall_work,
+            self.diagnostics.wall_force.clone(),
+            self.step,
+            self.time,
+        )
+    }
+
+    /// Energy report of the current state (a full readback).
+    pub fn energy(&self) -> EnergyReport {
+        self.snapshot().energy()
+    }
+
+    /// Advances `steps` steps and returns each wall's force averaged over them (from the
+    /// per-batch sums of the small block).
+    pub fn run_mean_wall_force(&mut self, steps: u64) -> Result<Vec<DVec3>, GpuError> {
+        let mut sum = vec![DVec3::ZERO; self.walls.len()];
+        let mut left = steps;
+        while left > 0 {
+            let batch = left.min(self.readback_every.max(1));
+            self.run(batch)?;
+            let d = &self.diagnostics;
+            for (s, m) in sum.iter_mut().zip(&d.mean_wall_force) {
+                *s += *m * d.mean_steps as f64;
+            }
+            left -= batch;
+        }
+        Ok(sum.into_iter().map(|s| s / steps.max(1) as f64).collect())
+    }
+}
+
+impl Engine for GpuEngine {
+    fn law(&self) -> &ContactLaw {
+        &self.law
+    }
+    fn walls(&self) -> &[Wall] {
+        &self.walls
+    }
+    fn monomer_count(&self) -> usize {
+        self.sizes.monomers
+    }
+    fn step_count(&self) -> u64 {
+        self.step
+    }
+    fn time(&self) -> f64 {
+        self.time
+    }
+    fn run_mean_wall_force(&mut self, steps: u64) -> Result<Vec<DVec3>, RunError> {
+        Ok(GpuEngine::run_mean_wall_force(self, steps)?)
+    }
+    fn positions(&self) -> Cow<'_, [DVec3]> {
+        Cow::Owned(GpuEngine::positions(self))
+    }
+    fn contact_counts(&self) -> (usize, usize) {
+        (
+            self.diagnostics.pair_contacts,
+            self.diagnostics.wall_contacts,
+        )
+    }
+    fn energy(&self) -> EnergyReport {
+        GpuEngine::energy(self)
+    }
+    fn state(&self) -> Cow<'_, CpuEngine> {
+        Cow::Owned(self.snapshot())
+    }
+}
+
+/// Maps `buffer` (MAP_READ), waits, and copies out its first `bytes` bytes.
+fn map_read(ctx: &GpuContext, buffer: &wgpu::Buffer, bytes: u64) -> Vec<u8> {
+    let slice = buffer.slice(..bytes);
+    slice.map_async(wgpu::MapMode::Read, |r| {
+        r.expect("mapping a readback buffer")
+    });
+    ctx.device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .expect("waiting for the device");
+    let view = slice.get_mapped_range().expect("mapped readback");
+    let out = view.to_vec();
+    drop(view);
+    buffer.unmap();
+    out
+}
