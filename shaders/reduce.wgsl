@@ -53,7 +53,6 @@ fn reduce_walls_final(@builtin(global_invocation_id) id: vec3<u32>) {
     }
 }
 
-const DIAG_THREADS: u32 = 64u;
 var<workgroup> part_tally: array<array<f64, TALLY_STRIDE>, DIAG_THREADS>;
 var<workgroup> part_pairs: array<u32, DIAG_THREADS>;
 var<workgroup> part_walls: array<u32, DIAG_THREADS>;

@@ -104,33 +104,34 @@ pub fn run_job(
     write_atomic(&config_path, effective.as_bytes()).map_err(io_err(&config_path))?;
     match config.experiment.kind {
         ExperimentKind::Collision => run_collision(config, out_dir, config_path),
-        _ => {
-            let context = match options.backend {
-                Backend::Cpu => None,
-                Backend::Gpu => {
-                    Some(GpuContext::new(&Requirements::default()).map_err(GpuError::from)?)
-                }
-                Backend::Auto => GpuContext::new(&Requirements::default()).ok(),
-            };
-            match context {
-                None => {
-                    (options.notice)("backend: cpu (f64 reference)");
-                    start(config, out_dir, Compression::new(config)?, options)
-                }
-                Some(ctx) => {
-                    (options.notice)(&format!(
-                        "backend: gpu ({}, {:?} float mode)",
-                        ctx.summary().name,
-                        ctx.float_mode
-                    ));
-                    let run = Compression::with_engine(config, |law, dt, m, walls, ps, ws| {
-                        Ok(GpuEngine::new(ctx, law, dt, m, walls, ps, ws)?)
-                    })?;
-                    start(config, out_dir, run, options)
-                }
+        _ => match choose_backend(options)? {
+            None => start(config, out_dir, Compression::new(config)?, options),
+            Some(ctx) => {
+                let run = Compression::with_engine(config, |law, dt, m, walls, ps, ws| {
+                    Ok(GpuEngine::new(ctx, law, dt, m, walls, ps, ws)?)
+                })?;
+                start(config, out_dir, run, options)
             }
-        }
+        },
     }
+}
+
+/// The GPU context a job runs on (`None`: the CPU reference), announced through the notice.
+fn choose_backend(options: &mut JobOptions) -> Result<Option<GpuContext>, RunError> {
+    let context = match options.backend {
+        Backend::Cpu => None,
+        Backend::Gpu => Some(GpuContext::new(&Requirements::default()).map_err(GpuError::from)?),
+        Backend::Auto => GpuContext::new(&Requirements::default()).ok(),
+    };
+    match &context {
+        None => (options.notice)("backend: cpu (f64 reference)"),
+        Some(ctx) => (options.notice)(&format!(
+            "backend: gpu ({}, {:?} float mode)",
+            ctx.summary().name,
+            ctx.float_mode
+        )),
+    }
+    Ok(context)
 }
 
 /// Creates the output tables and the first snapshot of a fresh compression, then runs it.
@@ -159,10 +160,32 @@ fn start<E: Engine>(
 }
 
 /// Continues the run a checkpoint belongs to, in the output directory it names: the curve and
-/// profile files are cut back to what they held at the checkpoint, then appended to. Resumed
-/// runs continue on the CPU reference (bit for bit when the checkpoint came from it).
+/// profile files are cut back to what they held at the checkpoint, then appended to. The run
+/// continues on the backend the options choose; on the backend that wrote the checkpoint it
+/// continues bit for bit.
 pub fn resume_job(checkpoint: &Path, options: &mut JobOptions) -> Result<JobSummary, RunError> {
     let loaded = load_checkpoint(checkpoint)?;
+    match choose_backend(options)? {
+        None => continue_job(loaded, loaded_run_cpu, options),
+        Some(ctx) => continue_job(
+            loaded,
+            |run| run.map_engine(|cpu| Ok(GpuEngine::resume(ctx, &cpu)?)),
+            options,
+        ),
+    }
+}
+
+fn loaded_run_cpu(run: Compression) -> Result<Compression, RunError> {
+    Ok(run)
+}
+
+/// Reopens a checkpoint's outputs and drives its run on the engine `engine` makes of it.
+fn continue_job<E: Engine>(
+    loaded: LoadedCheckpoint,
+    engine: impl FnOnce(Compression) -> Result<Compression<E>, RunError>,
+    options: &mut JobOptions,
+) -> Result<JobSummary, RunError> {
+    let run = engine(loaded.run)?;
     let out_dir = loaded.out_dir;
     let curve_path = out_dir.join(CURVE_FILE);
     let curve = CsvWriter::reopen(&curve_path, Row::HEADER.len(), loaded.curve_len)
@@ -170,14 +193,7 @@ pub fn resume_job(checkpoint: &Path, options: &mut JobOptions) -> Result<JobSumm
     let profile_path = out_dir.join(PROFILE_FILE);
     let profiles = CsvWriter::reopen(&profile_path, PROFILE_HEADER.len(), loaded.profile_len)
         .map_err(io_err(&profile_path))?;
-    drive(
-        &loaded.config,
-        &out_dir,
-        loaded.run,
-        curve,
-        profiles,
-        options,
-    )
+    drive(&loaded.config, &out_dir, run, curve, profiles, options)
 }
 
 /// A checkpoint read back: the run, its config, and where its outputs are.

@@ -50,6 +50,10 @@ enum Command {
     /// Continue a run from its checkpoint, appending to its outputs.
     Resume {
         checkpoint: PathBuf,
+        /// Engine to continue on: cpu, gpu or auto (as for `run`). Continuing on the backend
+        /// that wrote the checkpoint gives the same bits as an uninterrupted run.
+        #[arg(long, default_value = "auto")]
+        backend: Backend,
         #[command(flatten)]
         report: ReportArgs,
     },
@@ -194,15 +198,20 @@ fn run(
     Ok(())
 }
 
-fn resume(checkpoint: PathBuf, args: ReportArgs) -> Result<(), String> {
+fn resume(checkpoint: PathBuf, backend: Backend, args: ReportArgs) -> Result<(), String> {
     let reporter = Reporter::new(&args);
     let flag = interrupt_flag();
     let mut progress = |p: &Progress| reporter.report(p);
-    let mut notice = |_: &str| {};
+    let quiet = args.quiet;
+    let mut notice = |line: &str| {
+        if !quiet {
+            eprintln!("{line}");
+        }
+    };
     let mut options = JobOptions {
         progress: &mut progress,
         interrupt: Some(&flag),
-        backend: Backend::Cpu,
+        backend,
         notice: &mut notice,
     };
     let result = resume_job(&checkpoint, &mut options);
@@ -381,7 +390,11 @@ fn main() -> ExitCode {
             backend,
             report,
         } => run(config, out, backend, report),
-        Command::Resume { checkpoint, report } => resume(checkpoint, report),
+        Command::Resume {
+            checkpoint,
+            backend,
+            report,
+        } => resume(checkpoint, backend, report),
         Command::Generate { config, out } => generate(config, out),
         Command::Fit {
             curve,

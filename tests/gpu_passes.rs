@@ -19,7 +19,7 @@ mod gpu_support;
 use common::*;
 use dustdem::cpu::neighbours::NeighbourList;
 use dustdem::cpu::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
-use dustdem::cpu::{contacts, forces, integrate, walls, CpuEngine};
+use dustdem::cpu::{contacts, forces, integrate, reduce, walls, CpuEngine};
 use dustdem::gpu::context::context_for_tests;
 use dustdem::gpu::engine::GpuEngine;
 use dustdem::gpu::kernels::Kernel;
@@ -387,7 +387,9 @@ fn forces_and_walls_match_their_cpu_twins() {
         Kernel::ReduceWalls,
         Kernel::ReduceWallsFinal,
     ]);
-    gpu.refresh_diagnostics().unwrap();
+    // Per-monomer tallies before the read: reading the small block starts them afresh.
+    let (g, _) = gpu_tally(&gpu);
+    let reduced = gpu.refresh_diagnostics().unwrap().tally;
     let exact = exact(&gpu);
     let m = gpu.monomers();
     let f_scale = cpu.law.pair.f_c;
@@ -410,8 +412,9 @@ fn forces_and_walls_match_their_cpu_twins() {
     // Relaxed mode: the JKR root next to the branch end is √ε-conditioned (1.5e-8).
     let tol = if exact { 0.0 } else { 2e-8 };
     assert!(errs.iter().all(|e| *e <= tol), "{errs:?}");
-    let (g, _) = gpu_tally(&gpu);
     assert_channel("rolling", tally.rolling, g.rolling);
+    assert_channel("rolling (reduced)", tally.rolling, reduced.rolling);
+    assert_channel("sliding (reduced)", tally.sliding, reduced.sliding);
     assert_channel("sliding", tally.sliding, g.sliding);
     assert_channel("twisting", tally.twisting, g.twisting);
     assert_channel("walls (inelastic)", tally.walls, g.walls);
@@ -422,4 +425,52 @@ fn forces_and_walls_match_their_cpu_twins() {
         assert!(*a != DVec3::ZERO);
         assert!((*a - *b).length() <= 1e-12 * a.length().max(f_scale));
     }
+}
+
+#[test]
+fn reductions_match_their_cpu_twin_to_the_bit() {
+    let state = crafted().cpu;
+    let Some(mut gpu) = gpu_of(&state) else {
+        return;
+    };
+    gpu.dispatch(&[
+        Kernel::Contacts,
+        Kernel::Forces,
+        Kernel::WallForces,
+        Kernel::ReduceWalls,
+        Kernel::ReduceWallsFinal,
+    ]);
+    // The reductions' inputs as the device holds them, read before the small block is.
+    let (table, tallies, slots) = (
+        gpu.contacts(),
+        gpu.monomer_tallies(),
+        gpu.slot_wall_forces(),
+    );
+    let walls = reduce::reduce_walls(&table, &slots, gpu.walls.len());
+    let sums = reduce::reduce_diagnostics(&tallies, &table);
+    let d = gpu.refresh_diagnostics().unwrap().clone();
+    assert!(
+        walls.iter().all(|w| *w != DVec3::ZERO),
+        "every wall is touched"
+    );
+    assert!(
+        sums.tally.iter().filter(|t| **t != 0.0).count() >= 4,
+        "{:?}",
+        sums.tally
+    );
+    assert_eq!(d.wall_force, walls);
+    let t = &d.tally;
+    let device = [
+        t.breaking,
+        t.forming,
+        t.damping,
+        t.rolling,
+        t.sliding,
+        t.twisting,
+        t.walls,
+        d.wall_work,
+    ];
+    assert_eq!(device.map(f64::to_bits), sums.tally.map(f64::to_bits));
+    assert_eq!(d.pair_contacts, sums.pair_contacts);
+    assert_eq!(d.wall_contacts, sums.wall_contacts);
 }

@@ -1,8 +1,11 @@
-//! Checkpoints: an interrupted and resumed run is the run that was never interrupted.
+//! Checkpoints: an interrupted and resumed run is the run that was never interrupted, on the
+//! CPU reference and on the GPU engine (lavapipe in CI).
 
 use dustdem::config::Config;
 use dustdem::cpu::CpuEngine;
 use dustdem::experiment::compression::Compression;
+use dustdem::gpu::context::context_for_tests;
+use dustdem::gpu::engine::GpuEngine;
 use dustdem::io::binary::{Decoder, Encoder};
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
@@ -44,6 +47,46 @@ fn checkpoint_and_resume_continue_bit_for_bit() {
     assert_same_state(&straight.engine, &resumed.engine);
 }
 
+#[test]
+fn gpu_checkpoint_and_resume_continue_bit_for_bit() {
+    let config = Config::parse(
+        "[sample]\nmonomers = 300\nseed = 5\n[experiment]\nwall_speed_m_s = 3.0\n",
+        "restart test",
+    )
+    .unwrap();
+    let on_gpu = || {
+        let ctx = context_for_tests()?;
+        Some(
+            Compression::with_engine(&config, |law, dt, m, w, ps, ws| {
+                Ok(GpuEngine::new(ctx, law, dt, m, w, ps, ws)?)
+            })
+            .unwrap(),
+        )
+    };
+    let Some(mut straight) = on_gpu() else {
+        return;
+    };
+    straight.engine.run(1200).unwrap();
+
+    let mut first = on_gpu().unwrap();
+    first.engine.run(600).unwrap();
+    let mut e = Encoder::default();
+    first.encode_state(&mut e);
+    drop(first);
+    let decoded = Compression::decode_state(&config, &mut Decoder::new(&e.bytes)).unwrap();
+    let ctx = context_for_tests().unwrap();
+    let mut resumed = decoded
+        .map_engine(|cpu| Ok(GpuEngine::resume(ctx, &cpu)?))
+        .unwrap();
+    resumed.engine.run(600).unwrap();
+
+    let (a, b) = (straight.engine.snapshot(), resumed.engine.snapshot());
+    assert!(a.contacts.pair_contact_count() > 0);
+    assert!(a.tally.total() > 0.0, "something happened");
+    assert_same_state(&a, &b);
+    assert_eq!(straight.engine.wall_force(), resumed.engine.wall_force());
+}
+
 fn dustdem() -> Command {
     Command::new(env!("CARGO_BIN_EXE_dustdem"))
 }
@@ -56,8 +99,21 @@ fn scratch(name: &str) -> PathBuf {
 }
 
 #[test]
-fn a_run_killed_with_sigkill_resumes_to_the_same_curve() {
-    let dir = scratch("kill");
+fn a_cpu_run_killed_with_sigkill_resumes_to_the_same_curve() {
+    killed_and_resumed("cpu");
+}
+
+#[test]
+fn a_gpu_run_killed_with_sigkill_resumes_to_the_same_curve() {
+    if context_for_tests().is_some() {
+        killed_and_resumed("gpu");
+    }
+}
+
+/// Runs a small compression straight, and again killed with SIGKILL after a checkpoint and
+/// resumed, both on `backend`; the curve and profile files must be byte-identical.
+fn killed_and_resumed(backend: &str) {
+    let dir = scratch(&format!("kill-{backend}"));
     let config = dir.join("run.toml");
     std::fs::write(
         &config,
@@ -72,6 +128,8 @@ fn a_run_killed_with_sigkill_resumes_to_the_same_curve() {
             config.to_str().unwrap(),
             "--out",
             straight.to_str().unwrap(),
+            "--backend",
+            backend,
             "--quiet",
         ])
         .status()
@@ -84,6 +142,8 @@ fn a_run_killed_with_sigkill_resumes_to_the_same_curve() {
             config.to_str().unwrap(),
             "--out",
             killed.to_str().unwrap(),
+            "--backend",
+            backend,
             "--quiet",
         ])
         .stdout(Stdio::null())
@@ -109,7 +169,13 @@ fn a_run_killed_with_sigkill_resumes_to_the_same_curve() {
     child.kill().unwrap();
     child.wait().unwrap();
     let status = dustdem()
-        .args(["resume", checkpoint.to_str().unwrap(), "--quiet"])
+        .args([
+            "resume",
+            checkpoint.to_str().unwrap(),
+            "--backend",
+            backend,
+            "--quiet",
+        ])
         .status()
         .unwrap();
     assert!(status.success());

@@ -60,6 +60,8 @@ const MAX_WALLS: u32 = 8u;
 const INCOMING_CAPACITY: u32 = 16u;
 // Monomers one invocation of reduce_walls sums, in index order.
 const REDUCE_BLOCK: u32 = 64u;
+// Invocations of reduce_diagnostics (one workgroup): strided partial sums, added in order.
+const DIAG_THREADS: u32 = 64u;
 
 // Overflow and failure flags: the lowest monomer index concerned, or NO_MONOMER.
 const NO_MONOMER: u32 = 0xffffffffu;

@@ -7,6 +7,7 @@ pub mod contacts;
 pub mod forces;
 pub mod integrate;
 pub mod neighbours;
+pub mod reduce;
 pub mod state;
 pub mod walls;
 

@@ -337,6 +337,25 @@ impl<E: Engine> Compression<E> {
         })
     }
 
+    /// The same run continued on another engine made from this one's (a resumed checkpoint
+    /// moving to the GPU, for instance).
+    pub fn map_engine<F: Engine>(
+        self,
+        convert: impl FnOnce(E) -> Result<F, RunError>,
+    ) -> Result<Compression<F>, RunError> {
+        Ok(Compression {
+            kind: self.kind,
+            engine: convert(self.engine)?,
+            footprint: self.footprint,
+            average_steps: self.average_steps,
+            phi_stop: self.phi_stop,
+            pressure_stop: self.pressure_stop,
+            max_steps: self.max_steps,
+            profile_every: self.profile_every,
+            rows: self.rows,
+        })
+    }
+
     /// Cross-section for φ and P: the box base (omni) or the projected area (uni).
     pub fn area(&self) -> f64 {
         match self.kind {

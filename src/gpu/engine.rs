@@ -120,6 +120,10 @@ pub struct GpuEngine {
     /// Steps per submission and between reads of the small block.
     pub readback_every: u64,
     diagnostics: Diagnostics,
+    /// Running totals of the tally and the wall work, kept on the host in f64: the device's
+    /// per-monomer tallies count only since the last read, so a run resumed at a read adds the
+    /// same batch sums in the same order as an uninterrupted one (bit-identical totals).
+    totals: [f64; layout::TALLY_STRIDE],
 }
 
 fn groups(n: usize) -> u32 {
@@ -205,8 +209,38 @@ impl GpuEngine {
             time: 0.0,
             readback_every: DEFAULT_READBACK_EVERY,
             diagnostics: Diagnostics::default(),
+            totals: [0.0; layout::TALLY_STRIDE],
         };
         engine.upload(monomers, table);
+        Ok(engine)
+    }
+
+    /// Continues from a complete state (a checkpoint of either backend): the state is uploaded
+    /// as it is, and step, time, tally totals and wall forces carry on from it.
+    pub fn resume(ctx: GpuContext, state: &CpuEngine) -> Result<Self, GpuError> {
+        let mut engine = Self::with_state(
+            ctx,
+            state.law,
+            state.dt,
+            &state.monomers,
+            &state.contacts,
+            state.walls.clone(),
+        )?;
+        engine.step = state.step;
+        engine.time = state.time;
+        let t = &state.tally;
+        engine.totals = [
+            t.breaking,
+            t.forming,
+            t.damping,
+            t.rolling,
+            t.sliding,
+            t.twisting,
+            t.walls,
+            state.wall_work,
+        ];
+        engine.read_small()?;
+        engine.diagnostics.wall_force = state.wall_force.clone();
         Ok(engine)
     }
 
@@ -450,6 +484,8 @@ impl GpuEngine {
             diag_at,
             (layout::DIAG_SIZE * 8) as u64,
         );
+        // Counted from here on: the totals live on the host.
+        encoder.clear_buffer(self.buffers.get("tally"), 0, None);
         self.ctx.queue.submit([encoder.finish()]);
         let bytes = map_read(
             &self.ctx,
@@ -458,7 +494,10 @@ impl GpuEngine {
         );
         let flags: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes[..flag_bytes as usize]);
         let diag: Vec<f64> = bytemuck::pod_collect_to_vec(&bytes[diag_at as usize..]);
-        let t = &diag[..layout::TALLY_STRIDE];
+        for (total, since) in self.totals.iter_mut().zip(&diag[..layout::TALLY_STRIDE]) {
+            *total += since;
+        }
+        let t = &self.totals;
         let nw = self.walls.len();
         let wall = |base: usize, w: usize| {
             DVec3::new(
@@ -630,6 +669,12 @@ impl GpuEngine {
         table
     }
 
+    /// Force of every wall-contact slot on its wall (`i * wall_slots + slot`), as the walls
+    /// pass left it for the reduction.
+    pub fn slot_wall_forces(&self) -> Vec<DVec3> {
+        self.read_vec3("wall_force", self.sizes.monomers * self.sizes.wall_slots)
+    }
+
     /// Walls with their current points as the device holds them.
     pub fn current_walls(&self) -> Vec<Wall> {
         let gpu: Vec<GpuWall> = self.read("walls", self.walls.len());
@@ -643,7 +688,8 @@ impl GpuEngine {
             .collect()
     }
 
-    /// Per-monomer energy tallies (the seven dissipation channels, then the wall work).
+    /// Per-monomer energy tallies (the seven dissipation channels, then the wall work) since
+    /// the small block was last read.
     pub fn monomer_tallies(&self) -> Vec<[f64; layout::TALLY_STRIDE]> {
         self.read("tally", self.sizes.monomers)
     }

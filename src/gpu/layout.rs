@@ -119,6 +119,7 @@ const _: () = assert!(std::mem::size_of::<GpuWall>() == 192);
 pub const MAX_WALLS: usize = 8;
 pub const INCOMING_CAPACITY: usize = 16;
 pub const REDUCE_BLOCK: usize = 64;
+pub const DIAG_THREADS: usize = 64;
 pub const TALLY_STRIDE: usize = 8;
 pub const DIAG_PAIR_CONTACTS: usize = 8;
 pub const DIAG_WALL_CONTACTS: usize = 9;
@@ -249,6 +250,7 @@ mod tests {
             ("MAX_WALLS", MAX_WALLS),
             ("INCOMING_CAPACITY", INCOMING_CAPACITY),
             ("REDUCE_BLOCK", REDUCE_BLOCK),
+            ("DIAG_THREADS", DIAG_THREADS),
             ("TALLY_STRIDE", TALLY_STRIDE),
             ("DIAG_PAIR_CONTACTS", DIAG_PAIR_CONTACTS),
             ("DIAG_WALL_CONTACTS", DIAG_WALL_CONTACTS),
