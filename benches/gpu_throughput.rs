@@ -11,6 +11,7 @@ use dustdem::experiment::compression::Compression;
 use dustdem::gpu::context::{GpuContext, Requirements};
 use dustdem::gpu::engine::GpuEngine;
 use dustdem::gpu::kernels::ENTRY_POINTS;
+use dustdem::gpu::shader::FloatMode;
 use std::time::Instant;
 
 fn config(n: usize) -> Config {
@@ -18,6 +19,15 @@ fn config(n: usize) -> Config {
         "[sample]\nmonomers = {n}\nseed = 1\n[experiment]\nkind = \"omni\"\nwall_speed_m_s = 1.0\n"
     );
     Config::parse(&text, "benchmark").expect("valid benchmark config")
+}
+
+/// `DUSTDEM_FLOAT_MODE=relaxed` (or `exact`) measures that mode instead of the device's best.
+fn float_mode_override() -> Option<FloatMode> {
+    match std::env::var("DUSTDEM_FLOAT_MODE").ok()?.as_str() {
+        "relaxed" => Some(FloatMode::Relaxed),
+        "exact" => Some(FloatMode::Exact),
+        other => panic!("DUSTDEM_FLOAT_MODE={other}: expected relaxed or exact"),
+    }
 }
 
 fn main() {
@@ -33,7 +43,7 @@ fn main() {
     println!(
         "adapter: {} ({:?} float mode)",
         probe.summary().name,
-        probe.float_mode
+        float_mode_override().unwrap_or(probe.float_mode)
     );
     drop(probe);
     let names: Vec<&str> = GpuEngine::STEP
@@ -55,7 +65,10 @@ fn main() {
         cpu.engine.run(steps).expect("run");
         let cpu_rate = n as f64 * steps as f64 / clock.elapsed().as_secs_f64();
 
-        let ctx = GpuContext::new(&Requirements::default()).expect("adapter");
+        let mut ctx = GpuContext::new(&Requirements::default()).expect("adapter");
+        if let Some(mode) = float_mode_override() {
+            ctx.float_mode = mode;
+        }
         let mut gpu = Compression::with_engine(&cfg, |law, dt, m, w, ps, ws| {
             Ok(GpuEngine::new(ctx, law, dt, m, w, ps, ws)?)
         })

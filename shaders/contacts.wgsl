@@ -1,4 +1,4 @@
-// requires: bindings cells interaction wall math
+// requires: bindings interaction wall math
 //
 // Contact maintenance pass, twin of update_contacts in src/cpu/contacts.rs: breaks stretched
 // contacts (δ < −δ_c) and forms new ones (δ ≥ 0), keeping the history of every contact that
@@ -6,9 +6,8 @@
 // touch the same contact.
 //
 // Order as on the CPU: broken slots are replaced by the last one (swap-remove); new pair contacts
-// are appended in increasing partner index (the CPU's candidate list is sorted), found by
-// repeatedly taking the smallest untaken partner above the last one; new wall contacts are
-// appended in wall order. The energies of the events go to the owner's own tally.
+// are appended in increasing partner index (both sides' candidate lists are sorted); new wall
+// contacts are appended in wall order. The energies of the events go to the owner's own tally.
 
 fn has_pair(i: u32, count: u32, j: u32) -> bool {
     for (var slot = 0u; slot < count; slot++) {
@@ -28,35 +27,13 @@ fn has_wall(i: u32, count: u32, w: u32) -> bool {
     return false;
 }
 
-// Smallest j > after with 2r − |x_i − x_j| ≥ 0 that is not yet a partner of i, or NO_MONOMER.
-fn next_partner(i: u32, x: vec3<f64>, after: u32, count: u32) -> u32 {
-    let r = params.radius;
-    let c = cell_of(x);
-    var best = NO_MONOMER;
-    for (var dx = -1; dx <= 1; dx++) {
-        for (var dy = -1; dy <= 1; dy++) {
-            for (var dz = -1; dz <= 1; dz++) {
-                let b = bucket_of(c + vec3<i32>(dx, dy, dz));
-                let in_bucket = min(atomicLoad(&bucket_count[b]), params.bucket_capacity);
-                for (var k = 0u; k < in_bucket; k++) {
-                    let j = bucket_items[b * params.bucket_capacity + k];
-                    if j <= after || j >= best {
-                        continue;
-                    }
-                    let distance = vec_length(x - position[j].xyz);
-                    if !(2.0lf * r - distance < 0.0lf) && !has_pair(i, count, j) {
-                        best = j;
-                    }
-                }
-            }
-        }
-    }
-    return best;
-}
-
 @compute @workgroup_size(64)
 fn contacts(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
+    // Every neighbour pass of this step is done: the lists are fresh.
+    if i == 0u {
+        atomicStore(&flags[FLAG_REBUILD], NO_MONOMER);
+    }
     if i >= params.n {
         return;
     }
@@ -103,19 +80,19 @@ fn contacts(@builtin(global_invocation_id) id: vec3<u32>) {
         }
     }
 
-    // Form pair contacts, partners in increasing index.
-    var after = i;
-    loop {
-        let j = next_partner(i, x, after, count);
-        if j == NO_MONOMER {
-            break;
+    // Form pair contacts from the candidate list, partners in increasing index.
+    let list = i * NEIGHBOUR_CAPACITY;
+    for (var k = 0u; k < neighbour_count[i]; k++) {
+        let j = neighbour_list[list + k];
+        let d = x - position[j].xyz;
+        let distance = vec_length(d);
+        if 2.0lf * r - distance < 0.0lf || has_pair(i, count, j) {
+            continue;
         }
         if count >= params.pair_slots {
             flag(FLAG_PAIR_SLOTS, i);
             break;
         }
-        let d = x - position[j].xyz;
-        let distance = vec_length(d);
         let nc = d / distance;
         let n1 = -nc;
         let n2 = nc;
@@ -125,17 +102,18 @@ fn contacts(@builtin(global_invocation_id) id: vec3<u32>) {
         pair_n2[idx] = vec4<f64>(n2, 0.0lf);
         pair_partner[idx] = j;
         count += 1u;
-        after = j;
     }
     pair_count[i] = count;
 
     // Form wall contacts, in wall order.
     for (var w_idx = 0u; w_idx < params.wall_count; w_idx++) {
-        let w = walls[w_idx];
-        let normal = w.normal.xyz;
-        if wall_overlap(x, w.point.xyz, normal, r) < 0.0lf || has_wall(i, wcount, w_idx) {
+        // Only the plane for the test: the whole Wall (192 bytes) only where a contact forms.
+        let normal = walls[w_idx].normal.xyz;
+        if wall_overlap(x, walls[w_idx].point.xyz, normal, r) < 0.0lf
+            || has_wall(i, wcount, w_idx) {
             continue;
         }
+        let w = walls[w_idx];
         if wcount >= params.wall_slots {
             flag(FLAG_WALL_SLOTS, i);
             break;

@@ -75,6 +75,12 @@ fn integrate_drift(@builtin(global_invocation_id) id: vec3<u32>) {
     if !finite {
         flag(FLAG_NON_FINITE, i);
     }
+    // Half the skin (cell − 2r) travelled since the candidate lists were built: rebuild them.
+    let half_skin = 0.5lf * (params.cell - 2.0lf * params.radius);
+    let moved = x - reference_position[i].xyz;
+    if vec_dot(moved, moved) > half_skin * half_skin {
+        flag(FLAG_REBUILD, i);
+    }
 }
 
 @compute @workgroup_size(64)

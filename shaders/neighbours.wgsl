@@ -1,17 +1,23 @@
-// requires: bindings cells
+// requires: bindings cells math
 //
-// Neighbour pass, counterpart of src/cpu/neighbours.rs. The CPU keeps a Verlet list with a skin;
-// the device rebuilds its cell table every step instead (two cheap dispatches, no list to keep
-// valid): neighbours_clear empties the buckets, neighbours inserts every monomer into the bucket
-// of its cell. The contacts pass then searches the 27 cells around each owner. Either way every
-// pair within the contact distance 2r is a candidate, so both sides form the same contacts.
+// Neighbour passes, twin of src/cpu/neighbours.rs: candidate lists (Verlet lists) of the pairs
+// within 2r + skin, rebuilt only when some monomer has moved more than half the skin since the
+// last build (integrate_drift raises FLAG_REBUILD); otherwise all three passes return at once.
+// Any pair that can touch before the next rebuild is in the lists, so the contacts pass forms
+// the same contacts as the CPU whatever the rebuild schedule.
 //
-// Cells have edge `params.cell` ≥ 2r. A bucket holds `bucket_capacity` ids; a fuller one is
-// flagged (FLAG_BUCKET, with the monomer that did not fit), never silently dropped.
+// neighbours_clear empties the cell table, neighbours inserts every monomer into the bucket of
+// its cell (edge 2r + skin), neighbours_list scans the 27 cells around each monomer. A full
+// bucket or list is flagged (FLAG_BUCKET, FLAG_NEIGHBOURS, with the monomer concerned), never
+// silently dropped.
+
+fn rebuild_due() -> bool {
+    return atomicLoad(&flags[FLAG_REBUILD]) != NO_MONOMER;
+}
 
 @compute @workgroup_size(64)
 fn neighbours_clear(@builtin(global_invocation_id) id: vec3<u32>) {
-    if id.x <= params.table_mask {
+    if id.x <= params.table_mask && rebuild_due() {
         atomicStore(&bucket_count[id.x], 0u);
     }
 }
@@ -19,7 +25,7 @@ fn neighbours_clear(@builtin(global_invocation_id) id: vec3<u32>) {
 @compute @workgroup_size(64)
 fn neighbours(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
-    if i >= params.n {
+    if i >= params.n || !rebuild_due() {
         return;
     }
     let b = bucket_of(cell_of(position[i].xyz));
@@ -29,4 +35,49 @@ fn neighbours(@builtin(global_invocation_id) id: vec3<u32>) {
     } else {
         flag(FLAG_BUCKET, i);
     }
+}
+
+@compute @workgroup_size(64)
+fn neighbours_list(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= params.n || !rebuild_due() {
+        return;
+    }
+    let x = position[i].xyz;
+    let c = cell_of(x);
+    let base = i * NEIGHBOUR_CAPACITY;
+    var count = 0u;
+    for (var dx = -1; dx <= 1; dx++) {
+        for (var dy = -1; dy <= 1; dy++) {
+            for (var dz = -1; dz <= 1; dz++) {
+                let b = bucket_of(c + vec3<i32>(dx, dy, dz));
+                let in_bucket = min(atomicLoad(&bucket_count[b]), params.bucket_capacity);
+                for (var k = 0u; k < in_bucket; k++) {
+                    let j = bucket_items[b * params.bucket_capacity + k];
+                    if j <= i || vec_length(x - position[j].xyz) > params.cell {
+                        continue;
+                    }
+                    // Insert in ascending order; cells sharing a bucket can offer j twice.
+                    var at = count;
+                    while at > 0u && neighbour_list[base + at - 1u] > j {
+                        at -= 1u;
+                    }
+                    if at > 0u && neighbour_list[base + at - 1u] == j {
+                        continue;
+                    }
+                    if count >= NEIGHBOUR_CAPACITY {
+                        flag(FLAG_NEIGHBOURS, i);
+                        continue;
+                    }
+                    for (var s = count; s > at; s--) {
+                        neighbour_list[base + s] = neighbour_list[base + s - 1u];
+                    }
+                    neighbour_list[base + at] = j;
+                    count += 1u;
+                }
+            }
+        }
+    }
+    neighbour_count[i] = count;
+    reference_position[i] = vec4<f64>(x, 0.0lf);
 }

@@ -62,7 +62,9 @@ pub enum Backend {
     Cpu,
     /// The WGSL engine on the best adapter with f64 (an error when there is none).
     Gpu,
-    /// The GPU when an adapter fits, else the CPU.
+    /// A hardware GPU when one fits, else the CPU. A software adapter (lavapipe) is not
+    /// chosen: it runs the same shaders several times slower than the CPU reference
+    /// (README, benchmark); `Gpu` uses it anyway.
     Auto,
 }
 
@@ -121,7 +123,17 @@ fn choose_backend(options: &mut JobOptions) -> Result<Option<GpuContext>, RunErr
     let context = match options.backend {
         Backend::Cpu => None,
         Backend::Gpu => Some(GpuContext::new(&Requirements::default()).map_err(GpuError::from)?),
-        Backend::Auto => GpuContext::new(&Requirements::default()).ok(),
+        Backend::Auto => match GpuContext::new(&Requirements::default()) {
+            Ok(ctx) if ctx.summary().device_type == wgpu::DeviceType::Cpu => {
+                (options.notice)(&format!(
+                    "backend: cpu (f64 reference); the only adapter, {}, is a software \
+                     renderer and slower (--backend gpu uses it anyway)",
+                    ctx.summary().name
+                ));
+                return Ok(None);
+            }
+            found => found.ok(),
+        },
     };
     match &context {
         None => (options.notice)("backend: cpu (f64 reference)"),

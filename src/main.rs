@@ -40,8 +40,8 @@ enum Command {
         /// Output directory (overrides [output] dir).
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Engine: cpu (f64 reference), gpu (WGSL on an adapter with f64) or auto (gpu when
-        /// an adapter fits, else cpu).
+        /// Engine: cpu (f64 reference), gpu (WGSL on an adapter with f64) or auto (a hardware
+        /// GPU when one fits, else cpu; software adapters such as lavapipe only with gpu).
         #[arg(long, default_value = "auto")]
         backend: Backend,
         #[command(flatten)]
@@ -372,6 +372,11 @@ fn gpu_info(config: &Config, n: usize) {
     match GpuContext::new(&Requirements::default()) {
         Ok(ctx) => {
             println!("gpu: {}", ctx.summary());
+            if ctx.summary().device_type == wgpu::DeviceType::Cpu {
+                println!(
+                    "gpu: software adapter: `--backend auto` runs on the cpu, `--backend gpu` here"
+                );
+            }
             match sizes.check(&ctx.device.limits()) {
                 Ok(()) => println!("gpu: N = {n} fits"),
                 Err(e) => println!("gpu: N = {n} does not fit: {e}"),

@@ -337,6 +337,7 @@ fn contacts_match_their_cpu_twin() {
     gpu.dispatch(&[
         Kernel::NeighboursClear,
         Kernel::Neighbours,
+        Kernel::NeighboursList,
         Kernel::Contacts,
     ]);
     let before = state.contacts.pair_contact_count();

@@ -38,7 +38,7 @@ struct Params {
     radius: f64,
     inverse_mass: f64,
     inverse_inertia: f64,
-    // Edge of a binning cell [cm], ≥ the contact distance 2r.
+    // Edge of a binning cell and cutoff of the candidate lists [cm]: 2r + skin.
     cell: f64,
     e_star: f64,
     poisson: f64,
@@ -62,6 +62,8 @@ const INCOMING_CAPACITY: u32 = 16u;
 const REDUCE_BLOCK: u32 = 64u;
 // Invocations of reduce_diagnostics (one workgroup): strided partial sums, added in order.
 const DIAG_THREADS: u32 = 64u;
+// Candidate partners j > i one monomer's list holds (within 2r + skin: about 12 at φ = 0.74).
+const NEIGHBOUR_CAPACITY: u32 = 24u;
 
 // Overflow and failure flags: the lowest monomer index concerned, or NO_MONOMER.
 const NO_MONOMER: u32 = 0xffffffffu;
@@ -70,6 +72,10 @@ const FLAG_WALL_SLOTS: u32 = 1u;
 const FLAG_BUCKET: u32 = 2u;
 const FLAG_INCOMING: u32 = 3u;
 const FLAG_NON_FINITE: u32 = 4u;
+const FLAG_NEIGHBOURS: u32 = 5u;
+// Not an error: some monomer moved half the skin since the candidate lists were built (the
+// lowest such index); the neighbour passes rebuild them and the contacts pass lowers it.
+const FLAG_REBUILD: u32 = 6u;
 
 // Per-monomer cumulative energy channels (cpu::state::Dissipation, then the wall work).
 const TALLY_STRIDE: u32 = 8u;
@@ -131,6 +137,11 @@ const DIAG_SIZE: u32 = 80u;
 @group(0) @binding(25) var<storage, read_write> partials: array<vec4<f64>>;
 @group(0) @binding(26) var<storage, read_write> flags: array<atomic<u32>>;
 @group(0) @binding(27) var<storage, read_write> diag: array<f64>;
+// Candidate lists (Verlet lists): partners j > i within 2r + skin, ascending,
+// NEIGHBOUR_CAPACITY per monomer; their lengths; positions when they were built.
+@group(0) @binding(28) var<storage, read_write> neighbour_list: array<u32>;
+@group(0) @binding(29) var<storage, read_write> neighbour_count: array<u32>;
+@group(0) @binding(30) var<storage, read_write> reference_position: array<vec4<f64>>;
 
 fn wall_at(w: u32) -> Wall {
     return walls[w];

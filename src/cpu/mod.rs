@@ -149,7 +149,10 @@ impl CpuEngine {
             law,
             dt,
             contacts: ContactTable::new(n, pair_slots, wall_slots),
-            neighbours: NeighbourList::new(2.0 * law.radius, 0.2 * law.radius),
+            neighbours: NeighbourList::new(
+                2.0 * law.radius,
+                crate::cpu::neighbours::SKIN_RADII * law.radius,
+            ),
             monomers,
             walls,
             tally: Dissipation::default(),
@@ -204,7 +207,10 @@ impl CpuEngine {
         CpuEngine {
             law,
             dt,
-            neighbours: NeighbourList::new(2.0 * law.radius, 0.2 * law.radius),
+            neighbours: NeighbourList::new(
+                2.0 * law.radius,
+                crate::cpu::neighbours::SKIN_RADII * law.radius,
+            ),
             monomers,
             contacts,
             walls,
@@ -682,7 +688,10 @@ mod codec {
             if wall_force.len() != nw || wall_damping.len() != nw {
                 return Err(invalid(d, "wall forces", format!("expected {nw} entries")));
             }
-            let mut neighbours = NeighbourList::new(2.0 * law.radius, 0.2 * law.radius);
+            let mut neighbours = NeighbourList::new(
+                2.0 * law.radius,
+                crate::cpu::neighbours::SKIN_RADII * law.radius,
+            );
             neighbours.refresh(&monomers.position);
             Ok(CpuEngine {
                 law,

@@ -5,8 +5,8 @@
 //! once for a fixed N and slot counts; nothing is reallocated while the engine runs.
 
 use super::layout::{
-    GpuParams, GpuWall, DIAG_SIZE, FLAG_COUNT, INCOMING_CAPACITY, MAX_WALLS, REDUCE_BLOCK,
-    TALLY_STRIDE,
+    GpuParams, GpuWall, DIAG_SIZE, FLAG_COUNT, INCOMING_CAPACITY, MAX_WALLS, NEIGHBOUR_CAPACITY,
+    REDUCE_BLOCK, TALLY_STRIDE,
 };
 use std::fmt;
 
@@ -14,7 +14,7 @@ use std::fmt;
 const VEC4: u64 = 32;
 
 /// Binding names in binding order (index = binding number of bindings.wgsl).
-pub const BINDINGS: [&str; 28] = [
+pub const BINDINGS: [&str; 31] = [
     "params",
     "walls",
     "position",
@@ -43,6 +43,9 @@ pub const BINDINGS: [&str; 28] = [
     "partials",
     "flags",
     "diag",
+    "neighbour_list",
+    "neighbour_count",
+    "reference_position",
 ];
 
 /// Sizes of the engine's arrays for one problem.
@@ -58,7 +61,7 @@ pub struct Sizes {
     pub bucket_capacity: usize,
 }
 
-/// Ids one bucket of the cell table holds. Cells have edge 2r, so a cell holds at most ~4
+/// Ids one bucket of the cell table holds. Cells have edge 2.2r, so a cell holds at most ~6
 /// monomers at φ = 0.74 and a bucket a few more where hashed cells share it.
 pub const DEFAULT_BUCKET_CAPACITY: usize = 16;
 
@@ -75,7 +78,7 @@ impl Sizes {
     }
 
     /// Bytes of every binding, in binding order.
-    pub fn binding_bytes(&self) -> [u64; 28] {
+    pub fn binding_bytes(&self) -> [u64; 31] {
         let n = self.monomers as u64;
         let ps = self.pair_slots as u64;
         let ws = self.wall_slots as u64;
@@ -109,6 +112,9 @@ impl Sizes {
             blocks * MAX_WALLS as u64 * VEC4,
             FLAG_COUNT as u64 * 4,
             DIAG_SIZE as u64 * 8,
+            n * NEIGHBOUR_CAPACITY as u64 * 4,
+            n * 4,
+            n * VEC4,
         ]
     }
 
@@ -129,7 +135,7 @@ impl Sizes {
             .iter()
             .enumerate()
             .max_by_key(|(_, b)| **b)
-            .expect("28 bindings");
+            .expect("31 bindings");
         (BINDINGS[i], *b)
     }
 

@@ -35,6 +35,11 @@ pub enum GpuError {
         monomer: usize,
         capacity: usize,
     },
+    /// More candidate partners within 2r + skin than a candidate list holds.
+    NeighbourOverflow {
+        monomer: usize,
+        capacity: usize,
+    },
     /// More contacts with owners of lower index than the gather list holds.
     IncomingOverflow {
         monomer: usize,
@@ -53,6 +58,11 @@ impl fmt::Display for GpuError {
                 f,
                 "monomer {monomer} found its cell-table bucket full ({capacity} ids); monomers \
                  overlap far beyond contact, or raise gpu::buffers::DEFAULT_BUCKET_CAPACITY"
+            ),
+            GpuError::NeighbourOverflow { monomer, capacity } => write!(
+                f,
+                "monomer {monomer} has more than {capacity} candidate partners within 2r + skin \
+                 (gpu::layout::NEIGHBOUR_CAPACITY); monomers overlap far beyond contact"
             ),
             GpuError::IncomingOverflow { monomer, capacity } => write!(
                 f,
@@ -158,6 +168,7 @@ impl GpuEngine {
                 &[
                     Kernel::NeighboursClear,
                     Kernel::Neighbours,
+                    Kernel::NeighboursList,
                     Kernel::Contacts,
                     Kernel::ContactsClearTally,
                     Kernel::Forces,
@@ -260,7 +271,7 @@ impl GpuEngine {
             radius: law.radius,
             inverse_mass: 1.0 / law.mass,
             inverse_inertia: 1.0 / law.moment_of_inertia,
-            cell: 2.0 * law.radius,
+            cell: (2.0 + crate::cpu::neighbours::SKIN_RADII) * law.radius,
             e_star: law.e_star,
             poisson: law.poisson,
             damping_value: damping.value,
@@ -342,7 +353,12 @@ impl GpuEngine {
         self.write("wall_id", &wall_id);
         self.write("wall_count", &table.wall_count);
         self.write("incoming_count", &vec![0u32; n]);
-        self.write("flags", &[layout::NO_MONOMER; layout::FLAG_COUNT]);
+        // The candidate lists are built at the first neighbour passes.
+        let mut flags = [layout::NO_MONOMER; layout::FLAG_COUNT];
+        flags[layout::FLAG_REBUILD] = 0;
+        self.write("flags", &flags);
+        self.write("neighbour_count", &vec![0u32; n]);
+        self.write("reference_position", &v4(&m.position));
         self.write("diag", &[0.0f64; layout::DIAG_SIZE]);
     }
 
@@ -362,12 +378,13 @@ impl GpuEngine {
     }
 
     /// The dispatches of one step, in order.
-    pub const STEP: [Kernel; 10] = [
+    pub const STEP: [Kernel; 11] = [
         Kernel::IntegrateKick,
         Kernel::Integrate,
         Kernel::IntegrateDrift,
         Kernel::NeighboursClear,
         Kernel::Neighbours,
+        Kernel::NeighboursList,
         Kernel::Contacts,
         Kernel::Forces,
         Kernel::WallForces,
@@ -550,6 +567,12 @@ impl GpuEngine {
             return Err(GpuError::BucketOverflow {
                 monomer,
                 capacity: self.sizes.bucket_capacity,
+            });
+        }
+        if let Some(monomer) = raised(layout::FLAG_NEIGHBOURS) {
+            return Err(GpuError::NeighbourOverflow {
+                monomer,
+                capacity: layout::NEIGHBOUR_CAPACITY,
             });
         }
         if let Some(monomer) = raised(layout::FLAG_INCOMING) {

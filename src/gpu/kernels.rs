@@ -7,12 +7,13 @@ use super::context::GpuContext;
 use super::shader::{assemble_pass, ShaderError};
 
 /// Entry points in step order, with the pass file (without `.wgsl`) that holds each.
-pub const ENTRY_POINTS: [(&str, &str); 14] = [
+pub const ENTRY_POINTS: [(&str, &str); 15] = [
     ("integrate", "integrate_kick"),
     ("integrate", "integrate"),
     ("integrate", "integrate_drift"),
     ("neighbours", "neighbours_clear"),
     ("neighbours", "neighbours"),
+    ("neighbours", "neighbours_list"),
     ("contacts", "contacts"),
     ("forces", "forces"),
     ("walls", "wall_forces"),
@@ -32,6 +33,7 @@ pub enum Kernel {
     IntegrateDrift,
     NeighboursClear,
     Neighbours,
+    NeighboursList,
     Contacts,
     Forces,
     WallForces,

@@ -119,6 +119,7 @@ const _: () = assert!(std::mem::size_of::<GpuWall>() == 192);
 pub const MAX_WALLS: usize = 8;
 pub const INCOMING_CAPACITY: usize = 16;
 pub const REDUCE_BLOCK: usize = 64;
+pub const NEIGHBOUR_CAPACITY: usize = 24;
 pub const DIAG_THREADS: usize = 64;
 pub const TALLY_STRIDE: usize = 8;
 pub const DIAG_PAIR_CONTACTS: usize = 8;
@@ -133,6 +134,8 @@ pub const FLAG_WALL_SLOTS: usize = 1;
 pub const FLAG_BUCKET: usize = 2;
 pub const FLAG_INCOMING: usize = 3;
 pub const FLAG_NON_FINITE: usize = 4;
+pub const FLAG_NEIGHBOURS: usize = 5;
+pub const FLAG_REBUILD: usize = 6;
 pub const FLAG_COUNT: usize = 8;
 pub const NO_MONOMER: u32 = u32::MAX;
 
@@ -263,6 +266,9 @@ mod tests {
             ("FLAG_BUCKET", FLAG_BUCKET),
             ("FLAG_INCOMING", FLAG_INCOMING),
             ("FLAG_NON_FINITE", FLAG_NON_FINITE),
+            ("FLAG_NEIGHBOURS", FLAG_NEIGHBOURS),
+            ("FLAG_REBUILD", FLAG_REBUILD),
+            ("NEIGHBOUR_CAPACITY", NEIGHBOUR_CAPACITY),
             ("NO_MONOMER", NO_MONOMER as usize),
         ] {
             assert_eq!(constant(name), value as u64, "{name}");

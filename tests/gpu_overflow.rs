@@ -1,0 +1,103 @@
+//! Overflows on the device are detected and reported with the monomer, the limit and what to
+//! raise, never dropped: contact slots, cell-table buckets and candidate lists.
+
+use dustdem::config::Config;
+use dustdem::cpu::state::Monomers;
+use dustdem::experiment::compression::{Compression, RunError};
+use dustdem::gpu::context::context_for_tests;
+use dustdem::gpu::engine::{GpuEngine, GpuError};
+use dustdem::gpu::layout::NEIGHBOUR_CAPACITY;
+use glam::DVec3;
+
+/// `count` points on a sphere of radius `radius` around the origin (Fibonacci lattice).
+fn shell(count: usize, radius: f64) -> Vec<DVec3> {
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    (0..count)
+        .map(|k| {
+            let z = 1.0 - 2.0 * (k as f64 + 0.5) / count as f64;
+            let s = (1.0 - z * z).sqrt();
+            let a = golden * k as f64;
+            DVec3::new(s * a.cos(), s * a.sin(), z) * radius
+        })
+        .collect()
+}
+
+fn gpu_error(positions: Vec<DVec3>, pair_slots: usize) -> Option<GpuError> {
+    let ctx = context_for_tests()?;
+    let law = Config::default().contact_law();
+    let result = GpuEngine::new(
+        ctx,
+        law,
+        1e-10,
+        Monomers::new(positions),
+        Vec::new(),
+        pair_slots,
+        3,
+    );
+    Some(result.err().expect("the overflow must stop the engine"))
+}
+
+#[test]
+fn pair_slot_overflow_on_the_gpu_names_the_setting() {
+    let config = Config::parse(
+        "[sample]\nmonomers = 400\n[integration]\npair_slots = 1\n",
+        "overflow test",
+    )
+    .unwrap();
+    let Some(ctx) = context_for_tests() else {
+        return;
+    };
+    let result = Compression::with_engine(&config, |law, dt, m, w, ps, ws| {
+        Ok(GpuEngine::new(ctx, law, dt, m, w, ps, ws)?)
+    });
+    // The device's flag becomes the CPU engine's error, so both backends say the same.
+    let text = match result {
+        Err(RunError::Engine(e)) => e.to_string(),
+        Err(other) => panic!("wrong error: {other}"),
+        Ok(_) => panic!("an RBD sample has monomers with two partners of higher index"),
+    };
+    assert!(
+        text.contains("more than 1 monomer-monomer contact slots") && text.contains("pair_slots"),
+        "{text}"
+    );
+}
+
+#[test]
+fn a_full_candidate_list_is_reported() {
+    // Monomer 0 with NEIGHBOUR_CAPACITY + 1 partners of higher index within 2r + skin (none
+    // touching it): its list cannot hold them.
+    let r = Config::default().contact_law().radius;
+    let mut positions = vec![DVec3::ZERO];
+    positions.extend(shell(NEIGHBOUR_CAPACITY + 1, 2.1 * r));
+    let Some(error) = gpu_error(positions, 32) else {
+        return;
+    };
+    match &error {
+        GpuError::NeighbourOverflow { monomer, capacity } => {
+            assert_eq!((*monomer, *capacity), (0, NEIGHBOUR_CAPACITY));
+        }
+        other => panic!("wrong error: {other}"),
+    }
+    assert!(error.to_string().contains("NEIGHBOUR_CAPACITY"), "{error}");
+}
+
+#[test]
+fn a_full_cell_bucket_is_reported() {
+    // 20 monomers crushed into one cell: more than a bucket holds.
+    let r = Config::default().contact_law().radius;
+    let positions = shell(20, 0.5 * r)
+        .into_iter()
+        .map(|p| p + DVec3::splat(1.1 * r))
+        .collect();
+    let Some(error) = gpu_error(positions, 32) else {
+        return;
+    };
+    assert!(
+        matches!(error, GpuError::BucketOverflow { .. }),
+        "wrong error: {error}"
+    );
+    assert!(
+        error.to_string().contains("DEFAULT_BUCKET_CAPACITY"),
+        "{error}"
+    );
+}
