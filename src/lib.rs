@@ -5,6 +5,7 @@
 #![allow(clippy::needless_range_loop, clippy::too_many_arguments)]
 
 pub mod analysis;
+pub mod calibrate;
 pub mod config;
 pub mod cpu;
 pub mod experiment;

@@ -1,0 +1,88 @@
+//! Calibration: compare the model with measured data, find where and by how much it misses,
+//! and name the physical effect that explains the gap (or say that none, or several, do).
+//!
+//! `measured` reads the data, `effects` maps named one-parameter effects onto the config,
+//! `simulate` makes (and caches) the runs, `gap` measures the difference and its noise,
+//! `attribution` fits one effect at a time and decides, `workflow` runs the add-and-rerun
+//! loop, `synth` writes measured-like data from the simulator, and `report` and `raster` write
+//! the Markdown report, plots and the corrected config.
+
+pub mod attribution;
+pub mod effects;
+pub mod gap;
+pub mod measured;
+pub mod raster;
+pub mod report;
+pub mod simulate;
+pub mod synth;
+pub mod workflow;
+
+pub use effects::Effect;
+pub use measured::MeasuredSet;
+pub use simulate::RunCache;
+pub use workflow::{calibrate, Calibration, Settings};
+
+use crate::config::{Config, ConfigError};
+use std::path::{Path, PathBuf};
+
+/// `dustdem calibrate`: loads both files, calibrates, writes the report into `out` and returns
+/// the summary lines and the files written.
+pub fn run_calibration(
+    measured_path: &Path,
+    config_path: &Path,
+    out: &Path,
+    settings: &Settings,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<(Vec<String>, Vec<PathBuf>), String> {
+    let measured = MeasuredSet::load(measured_path).map_err(|e| e.to_string())?;
+    let config = Config::load(config_path).map_err(|e| e.to_string())?;
+    let cache = RunCache::new();
+    let cal = calibrate(&measured, &config, settings, &cache, progress)?;
+    let files = report::write_outputs(&cal, out, measured_path, config_path)?;
+    let mut lines = Vec::new();
+    for (k, round) in cal.rounds.iter().enumerate() {
+        lines.push(format!(
+            "round {}: {}",
+            k + 1,
+            workflow::describe_decision(&round.decision)
+        ));
+    }
+    for (effect, factor) in &cal.applied {
+        lines.push(format!(
+            "applied {} x{:.4} ({})",
+            effect.name(),
+            factor,
+            effect.describe_value(&cal.base, *factor)
+        ));
+    }
+    let (before, after) = (cal.baseline_gap(), cal.final_gap());
+    lines.push(format!(
+        "chi2 {:.2} -> {:.2} (noise threshold {:.2}); normalised gap shrank by {:.0}%",
+        before.chi2,
+        after.chi2,
+        after.threshold,
+        100.0 * report::gap_shrink(before, &after)
+    ));
+    Ok((lines, files))
+}
+
+/// Parses `name=factor` (e.g. `rolling_stiffness=8`) as an effect and its factor.
+pub fn parse_effect(text: &str) -> Result<(Effect, f64), ConfigError> {
+    let allowed = format!(
+        "name=factor with a factor > 0 and a name from: {}",
+        Effect::ALL.map(|e| e.name()).join(", ")
+    );
+    let fail = || ConfigError {
+        file: "command line".into(),
+        field: "--effect".into(),
+        value: text.into(),
+        allowed: allowed.clone(),
+    };
+    let (name, factor) = text.split_once('=').ok_or_else(fail)?;
+    let effect = Effect::from_name(name.trim()).ok_or_else(fail)?;
+    let factor: f64 = factor.trim().parse().map_err(|_| fail())?;
+    if !(factor.is_finite() && factor > 0.0) {
+        return Err(fail());
+    }
+    Ok((effect, factor))
+}

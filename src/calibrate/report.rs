@@ -1,0 +1,450 @@
+//! What a calibration writes: `report.md` (the gap, where it is, every effect's fit, the
+//! decision), `calibration.png` and one SVG per compression curve (measured vs baseline vs
+//! corrected), and `corrected.toml` (the config with the named effects applied).
+
+use super::attribution::Decision;
+use super::gap::{targets, CurveGap, Gap, Prediction};
+use super::raster::{draw_panel, Canvas, Mark, Panel, PanelSeries, BLACK, BLUE, RED};
+use super::workflow::{describe_decision, Calibration};
+use crate::io::atomic::write_atomic;
+use crate::io::plot::{Plot, Series, Style};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+pub const REPORT_FILE: &str = "report.md";
+pub const CORRECTED_FILE: &str = "corrected.toml";
+pub const PLOT_FILE: &str = "calibration.png";
+
+/// Shrink of the noise-normalised gap, 1 − √(χ²_after/χ²_before): 1 when the corrected model
+/// fits perfectly, 0 when nothing changed.
+pub fn gap_shrink(before: &Gap, after: &Gap) -> f64 {
+    1.0 - (after.chi2 / before.chi2).sqrt()
+}
+
+/// Writes the report, plots and corrected config into `out`; returns the files written.
+pub fn write_outputs(
+    cal: &Calibration,
+    out: &Path,
+    measured_path: &Path,
+    config_path: &Path,
+) -> Result<Vec<PathBuf>, String> {
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let write = |name: &str, bytes: &[u8]| -> Result<PathBuf, String> {
+        let path = out.join(name);
+        write_atomic(&path, bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(path)
+    };
+    let mut files = Vec::new();
+    files.push(write(
+        CORRECTED_FILE,
+        corrected_config(cal, measured_path, config_path).as_bytes(),
+    )?);
+    let png = plot_png(cal)
+        .to_png()
+        .map_err(|e| format!("{PLOT_FILE}: {e}"))?;
+    files.push(write(PLOT_FILE, &png)?);
+    for (k, svg) in plot_svgs(cal).into_iter().enumerate() {
+        files.push(write(&format!("curve_{}.svg", k + 1), svg.as_bytes())?);
+    }
+    files.push(write(
+        REPORT_FILE,
+        markdown(cal, measured_path, config_path).as_bytes(),
+    )?);
+    Ok(files)
+}
+
+/// The base config with the named effects applied, headed by what was changed and why.
+pub fn corrected_config(cal: &Calibration, measured_path: &Path, config_path: &Path) -> String {
+    let mut s = format!(
+        "# Calibrated from {} against {}.\n",
+        config_path.display(),
+        measured_path.display()
+    );
+    if cal.applied.is_empty() {
+        s.push_str("# No effect was applied: this is the base config.\n");
+    }
+    for (effect, factor) in &cal.applied {
+        let _ = writeln!(
+            s,
+            "# {} ({}) x{:.4}: {}",
+            effect.name(),
+            effect.key(),
+            factor,
+            effect.describe_value(&cal.base, *factor)
+        );
+    }
+    s.push('\n');
+    s.push_str(&toml::to_string(&cal.corrected).expect("configs serialise"));
+    s
+}
+
+fn fmt_factor(f: f64) -> String {
+    if (0.01..1000.0).contains(&f) {
+        format!("{f:.3}")
+    } else {
+        format!("{f:.3e}")
+    }
+}
+
+fn curve_table(s: &mut String, gap: &Gap, cal: &Calibration) {
+    s.push_str("| curve | points covered | RMS gap | RMS noise | chi2 | verdict |\n|---|---|---|---|---|---|\n");
+    let n_comp = cal.measured.compression.len();
+    for (k, c) in gap.curves.iter().enumerate() {
+        let unit = if k < n_comp { "" } else { " m/s" };
+        let _ = writeln!(
+            s,
+            "| {} | {}/{} | {:.4}{unit} | {:.4}{unit} | {:.2} | {} |",
+            c.name,
+            c.covered,
+            c.residual.len(),
+            c.rms,
+            c.noise,
+            c.chi2,
+            verdict_text(c, k >= n_comp)
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nTotal chi2 = {:.2} (one degree of freedom per curve); the 95% noise threshold is {:.2}: \
+         the gap is **{}**.\n",
+        gap.chi2,
+        gap.threshold,
+        if gap.within_noise() {
+            "within noise"
+        } else {
+            "beyond noise"
+        }
+    );
+}
+
+fn verdict_text(c: &CurveGap, sticking: bool) -> String {
+    use super::gap::Verdict;
+    if !sticking {
+        return c.verdict.text().to_string();
+    }
+    match c.verdict {
+        Verdict::WithinNoise => "within noise".into(),
+        Verdict::TooSoft => "sticks only below the measured speed (too little loss)".into(),
+        Verdict::TooStiff => "sticks above the measured speed (too much loss)".into(),
+    }
+}
+
+fn where_table(s: &mut String, gap: &Gap) {
+    s.push_str("| curve | pressure band [Pa] | mean Δφ (sim − meas) | 1σ | verdict |\n|---|---|---|---|---|\n");
+    for c in &gap.curves {
+        for b in &c.bands {
+            let _ = writeln!(
+                s,
+                "| {} | {:.2e} – {:.2e} | {:+.4} | {:.4} | {} |",
+                c.name,
+                b.p_lo,
+                b.p_hi,
+                b.mean,
+                b.sigma,
+                b.verdict.text()
+            );
+        }
+    }
+    s.push('\n');
+}
+
+/// The Markdown report.
+pub fn markdown(cal: &Calibration, measured_path: &Path, config_path: &Path) -> String {
+    let m = &cal.measured;
+    let c = &cal.base;
+    let mut s = String::from("# Calibration report\n\n");
+    let _ = writeln!(s, "- measured data: `{}`", measured_path.display());
+    let _ = writeln!(s, "  - source: {}", m.source.citation);
+    if !m.source.what.is_empty() {
+        let _ = writeln!(s, "  - what: {}", m.source.what);
+    }
+    if !m.source.notes.is_empty() {
+        let _ = writeln!(s, "  - notes: {}", m.source.notes);
+    }
+    let _ = writeln!(s, "- base config: `{}`", config_path.display());
+    let _ = writeln!(
+        s,
+        "- simulations: {} RBD monomers per sample, seeds {:?}, wall at {} m/s, dt {} ns; {} runs",
+        c.sample.monomers,
+        cal.settings.seeds,
+        c.experiment.wall_speed_m_s,
+        c.integration.dt_ns,
+        cal.runs
+    );
+    for curve in &m.compression {
+        if let Some(v) = curve.wall_speed {
+            if (v - c.experiment.wall_speed_m_s).abs() > 1e-9 * v {
+                let _ = writeln!(
+                    s,
+                    "- note: {} was measured at {v} m/s, simulated at {} m/s; compression \
+                     curves depend on the wall speed",
+                    curve.name, c.experiment.wall_speed_m_s
+                );
+            }
+        }
+    }
+    if cal.settings.seeds.len() < 2 {
+        s.push_str("- note: one seed gives no sample-to-sample scatter; noise is the measured uncertainty only\n");
+    }
+    s.push_str("\n## Baseline gap\n\n");
+    curve_table(&mut s, cal.baseline_gap(), cal);
+    if !m.compression.is_empty() {
+        s.push_str("Where (Δφ > 0: the simulated sample is denser at that pressure, i.e. the model is too soft):\n\n");
+        where_table(&mut s, cal.baseline_gap());
+    }
+    for (k, round) in cal.rounds.iter().enumerate() {
+        let _ = writeln!(s, "## Round {}\n", k + 1);
+        if !round.fits.is_empty() {
+            s.push_str(
+                "Each effect fitted alone (factor on the base value; interval: chi2 within +1; \
+                 explained: share of the baseline chi2 removed; confidence: relative weight \
+                 exp(−chi2/2) among the effects; ends: chi2 at the ends of the plausible range).\n\n\
+                 | effect | kind | factor | interval | value | chi2 | explained | confidence | chi2 at range ends | simulated factors |\n\
+                 |---|---|---|---|---|---|---|---|---|---|\n",
+            );
+            let current = round_base(cal, k);
+            for f in &round.fits {
+                let _ = writeln!(
+                    s,
+                    "| {} | {} | {}{} | {} – {} | {} | {:.2} | {:.1}% | {:.3} | {:.1} / {:.1} | {} |",
+                    f.effect.name(),
+                    f.effect.kind().name(),
+                    fmt_factor(f.factor),
+                    if f.at_range_end { " (range end)" } else { "" },
+                    fmt_factor(f.interval.0),
+                    fmt_factor(f.interval.1),
+                    f.effect.describe_value(&current, f.factor),
+                    f.chi2,
+                    100.0 * f.explained,
+                    f.confidence,
+                    f.chi2_at_range_ends.0,
+                    f.chi2_at_range_ends.1,
+                    f.grid_factors
+                        .iter()
+                        .map(|&x| fmt_factor(x))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                );
+            }
+            s.push('\n');
+        }
+        let _ = writeln!(s, "**Decision:** {}.\n", describe_decision(&round.decision));
+        if let (Some((effect, factor)), Some(after)) = (round.applied, &round.gap_after) {
+            let _ = writeln!(
+                s,
+                "Re-simulated with {} x{} ({}): chi2 {:.2} → {:.2}; normalised gap shrank by \
+                 {:.0}%{}.\n",
+                effect.name(),
+                fmt_factor(factor),
+                effect.describe_value(&round_base(cal, k), factor),
+                round.gap_before.chi2,
+                after.chi2,
+                100.0 * gap_shrink(&round.gap_before, after),
+                if round.rejected {
+                    " — not kept, it did not lower the gap"
+                } else {
+                    ""
+                }
+            );
+            curve_table(&mut s, after, cal);
+        }
+        if let Decision::Undetermined(_) = round.decision {
+            s.push_str("The corrected config uses the nominally best of the tied effects; treat it as one of several equally good explanations.\n\n");
+        }
+    }
+    s.push_str("## Result\n\n");
+    let named = cal.named();
+    if cal.applied.is_empty() {
+        s.push_str("No effect was applied; the corrected config equals the base config.\n");
+    } else {
+        for (effect, factor) in &cal.applied {
+            let _ = writeln!(
+                s,
+                "- {} ({}, `{}`) x{}: {}{}",
+                effect.name(),
+                effect.kind().name(),
+                effect.key(),
+                fmt_factor(*factor),
+                effect.describe_value(&cal.base, *factor),
+                if named.contains(effect) {
+                    ""
+                } else {
+                    " (tied with others, see above)"
+                }
+            );
+        }
+        let before = cal.baseline_gap();
+        let after = cal.final_gap();
+        let _ = writeln!(
+            s,
+            "\nchi2 {:.2} → {:.2}; normalised gap shrank by {:.0}%.",
+            before.chi2,
+            after.chi2,
+            100.0 * gap_shrink(before, &after)
+        );
+        for (b, a) in before.curves.iter().zip(&after.curves) {
+            let _ = writeln!(
+                s,
+                "- {}: RMS gap {:.4} → {:.4} ({:.0}% smaller)",
+                b.name,
+                b.rms,
+                a.rms,
+                100.0 * (1.0 - a.rms / b.rms)
+            );
+        }
+    }
+    let _ = writeln!(
+        s,
+        "\nCorrected config: `{CORRECTED_FILE}`.\n\n![measured, baseline and corrected]({PLOT_FILE})"
+    );
+    s
+}
+
+/// The config a round started from: the base with the earlier rounds' effects applied.
+fn round_base(cal: &Calibration, round: usize) -> crate::config::Config {
+    let mut c = cal.base.clone();
+    for (effect, factor) in cal.applied.iter().take(round) {
+        c = effect.apply(&c, *factor);
+    }
+    c
+}
+
+fn compression_points(p: &[f64], prediction: &Prediction) -> Vec<(f64, f64, f64)> {
+    match prediction {
+        Prediction::Compression { phi, scatter, .. } => p
+            .iter()
+            .zip(phi)
+            .zip(scatter)
+            .map(|((&p, &v), &s)| (p, v, s))
+            .collect(),
+        Prediction::Sticking { .. } => Vec::new(),
+    }
+}
+
+fn sticking_velocity(prediction: &Prediction) -> f64 {
+    match prediction {
+        Prediction::Sticking { velocity, .. } => *velocity,
+        Prediction::Compression { .. } => f64::NAN,
+    }
+}
+
+/// One panel per compression curve and one for the sticking velocities, side by side.
+pub fn plot_png(cal: &Calibration) -> Canvas {
+    let m = &cal.measured;
+    let targets = targets(m);
+    let mut panels = Vec::new();
+    for (k, curve) in m.compression.iter().enumerate() {
+        panels.push(Panel {
+            title: curve.name.clone(),
+            x_label: "P (Pa)".into(),
+            y_label: "phi".into(),
+            x_log: true,
+            categories: Vec::new(),
+            series: vec![
+                PanelSeries {
+                    label: "measured".into(),
+                    colour: BLACK,
+                    mark: Mark::ErrorBars,
+                    points: curve
+                        .pressure
+                        .iter()
+                        .zip(&curve.phi)
+                        .zip(&curve.phi_sigma)
+                        .map(|((&p, &v), &s)| (p, v, s))
+                        .collect(),
+                },
+                PanelSeries {
+                    label: "baseline".into(),
+                    colour: RED,
+                    mark: Mark::Line,
+                    points: compression_points(&targets[k], &cal.baseline[k]),
+                },
+                PanelSeries {
+                    label: "corrected".into(),
+                    colour: BLUE,
+                    mark: Mark::Line,
+                    points: compression_points(&targets[k], &cal.final_predictions[k]),
+                },
+            ],
+        });
+    }
+    let n = m.compression.len();
+    for (k, stick) in m.sticking.iter().enumerate() {
+        let at = |x: f64, v: f64| vec![(x, v, 0.0)];
+        panels.push(Panel {
+            title: stick.name.clone(),
+            x_label: String::new(),
+            y_label: "v stick (m/s)".into(),
+            x_log: false,
+            categories: vec!["measured".into(), "baseline".into(), "corrected".into()],
+            series: vec![
+                PanelSeries {
+                    label: "measured".into(),
+                    colour: BLACK,
+                    mark: Mark::ErrorBars,
+                    points: vec![(1.0, stick.velocity, stick.sigma)],
+                },
+                PanelSeries {
+                    label: "baseline".into(),
+                    colour: RED,
+                    mark: Mark::Line,
+                    points: at(2.0, sticking_velocity(&cal.baseline[n + k])),
+                },
+                PanelSeries {
+                    label: "corrected".into(),
+                    colour: BLUE,
+                    mark: Mark::Line,
+                    points: at(3.0, sticking_velocity(&cal.final_predictions[n + k])),
+                },
+            ],
+        });
+    }
+    let (w, h) = (560.0, 420.0);
+    let mut canvas = Canvas::new((w as usize) * panels.len().max(1), h as usize);
+    for (k, panel) in panels.iter().enumerate() {
+        draw_panel(&mut canvas, panel, k as f64 * w, 0.0, w, h);
+    }
+    canvas
+}
+
+/// The same comparison as labelled SVG (system fonts), one per compression curve.
+fn plot_svgs(cal: &Calibration) -> Vec<String> {
+    let targets = targets(&cal.measured);
+    cal.measured
+        .compression
+        .iter()
+        .enumerate()
+        .map(|(k, curve)| {
+            let xy = |pts: Vec<(f64, f64, f64)>| pts.into_iter().map(|p| (p.0, p.1)).collect();
+            let mut plot = Plot::new(
+                format!("{}: measured, baseline, corrected", curve.name),
+                "P [Pa]",
+                "filling factor φ",
+            );
+            plot.x_log = true;
+            plot.series = vec![
+                Series::new(
+                    "measured",
+                    curve
+                        .pressure
+                        .iter()
+                        .copied()
+                        .zip(curve.phi.clone())
+                        .collect(),
+                    Style::Markers,
+                ),
+                Series::new(
+                    "baseline",
+                    xy(compression_points(&targets[k], &cal.baseline[k])),
+                    Style::Line,
+                ),
+                Series::new(
+                    "corrected",
+                    xy(compression_points(&targets[k], &cal.final_predictions[k])),
+                    Style::Dashed,
+                ),
+            ];
+            plot.to_svg()
+        })
+        .collect()
+}

@@ -1,0 +1,420 @@
+//! The calibration loop: measure the gap of the model; if it exceeds the noise, screen every
+//! effect at the ends of its plausible range, refine the best candidates' 1-D fits, name the
+//! effect that explains the gap (or say that none does, or that several do equally well),
+//! apply it, re-simulate, and repeat while a gap beyond noise remains.
+
+use super::attribution::{attribute, Decision, EffectFit, Grid};
+use super::effects::Effect;
+use super::gap::{gap, targets, Gap, Prediction};
+use super::measured::{Geometry, MeasuredSet};
+use super::simulate::{
+    compression_config, run_all, sticking_config, Output, Run, RunCache, STICKING_TOLERANCE,
+};
+use crate::config::Config;
+
+/// How much simulation a calibration may spend.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    /// RBD sample seeds: every compression curve is simulated once per seed.
+    pub seeds: Vec<u64>,
+    pub threads: usize,
+    /// Effects added one after the other at most.
+    pub max_rounds: usize,
+    /// Effects whose fits are refined beyond the screen, per round (best screened first).
+    pub candidates: usize,
+    /// Refinement passes per round (one simulated point per candidate each).
+    pub refinements: usize,
+    pub effects: Vec<Effect>,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            seeds: vec![1, 2, 3],
+            threads: std::thread::available_parallelism().map_or(2, |n| n.get()),
+            max_rounds: 2,
+            candidates: 3,
+            refinements: 3,
+            effects: Effect::ALL.to_vec(),
+        }
+    }
+}
+
+/// A refinement stops when the interpolated minimum is within this of a simulated factor
+/// (in ln factor: 5%).
+const REFINE_TOLERANCE: f64 = 0.05;
+
+/// One pass of the loop.
+#[derive(Clone, Debug)]
+pub struct Round {
+    pub gap_before: Gap,
+    /// Fits sorted by χ², best first (empty when the gap was within noise).
+    pub fits: Vec<EffectFit>,
+    pub decision: Decision,
+    /// The effect applied and its factor, with the re-simulated gap.
+    pub applied: Option<(Effect, f64)>,
+    pub gap_after: Option<Gap>,
+    /// The correction did not lower χ² when re-simulated, so it was not kept.
+    pub rejected: bool,
+}
+
+#[derive(Clone, Debug)]
+pub struct Calibration {
+    pub measured: MeasuredSet,
+    pub settings: Settings,
+    pub base: Config,
+    pub corrected: Config,
+    /// Effects applied, in order, with their factors.
+    pub applied: Vec<(Effect, f64)>,
+    pub rounds: Vec<Round>,
+    pub baseline: Vec<Prediction>,
+    pub final_predictions: Vec<Prediction>,
+    pub runs: usize,
+}
+
+impl Calibration {
+    pub fn baseline_gap(&self) -> &Gap {
+        &self.rounds[0].gap_before
+    }
+
+    /// The gap of the corrected model.
+    pub fn final_gap(&self) -> Gap {
+        gap(&self.measured, &self.final_predictions)
+    }
+
+    /// The effect named in the first round, if one was.
+    pub fn named(&self) -> Vec<Effect> {
+        self.rounds
+            .iter()
+            .filter_map(|r| match (&r.decision, r.rejected) {
+                (Decision::Named(e), false) => Some(*e),
+                _ => None,
+            })
+            .collect()
+    }
+}
+
+/// Predicts every measured curve for each config (all runs in one parallel batch).
+pub struct Predictor<'a> {
+    pub measured: &'a MeasuredSet,
+    pub cache: &'a RunCache,
+    pub settings: &'a Settings,
+    pub progress: &'a (dyn Fn(&str) + Sync),
+    pub runs: usize,
+}
+
+impl Predictor<'_> {
+    fn runs_for(&self, config: &Config) -> Vec<Run> {
+        let mut runs = Vec::new();
+        for c in &self.measured.compression {
+            let (_, p_max) = c.pressure_range();
+            for &seed in &self.settings.seeds {
+                runs.push(Run::Compression(compression_config(
+                    config, c.geometry, seed, p_max,
+                )));
+            }
+        }
+        if !self.measured.sticking.is_empty() {
+            runs.push(Run::Sticking(sticking_config(config)));
+        }
+        runs
+    }
+
+    pub fn predict(
+        &mut self,
+        configs: &[Config],
+        what: &str,
+    ) -> Result<Vec<Vec<Prediction>>, String> {
+        let per: Vec<Vec<Run>> = configs.iter().map(|c| self.runs_for(c)).collect();
+        let flat: Vec<Run> = per.iter().flatten().cloned().collect();
+        (self.progress)(&format!(
+            "{what}: {} configuration(s), {} run(s)",
+            configs.len(),
+            flat.len()
+        ));
+        let progress = self.progress;
+        let step = (flat.len() / 10).max(1);
+        let outputs = run_all(&flat, self.cache, self.settings.threads, &|k, n| {
+            if k % step == 0 || k == n {
+                progress(&format!("  {what}: {k}/{n} runs done"));
+            }
+        });
+        self.runs += flat.len();
+        let targets = targets(self.measured);
+        let mut outputs = outputs.into_iter();
+        let mut all = Vec::new();
+        for _ in configs {
+            let mut predictions = Vec::new();
+            for t in &targets {
+                let mut per_seed = Vec::new();
+                for _ in &self.settings.seeds {
+                    match outputs.next().expect("one output per run")? {
+                        Output::Envelope(e) => {
+                            per_seed.push(t.iter().map(|&p| e.phi_at(p)).collect::<Vec<_>>())
+                        }
+                        Output::Sticking(_) => unreachable!("run order"),
+                    }
+                }
+                predictions.push(Prediction::from_seeds(&per_seed));
+            }
+            if !self.measured.sticking.is_empty() {
+                let Output::Sticking(v) = outputs.next().expect("one output per run")? else {
+                    unreachable!("run order")
+                };
+                for _ in &self.measured.sticking {
+                    predictions.push(Prediction::Sticking {
+                        velocity: v,
+                        resolution: 0.5 * STICKING_TOLERANCE * v,
+                    });
+                }
+            }
+            all.push(predictions);
+        }
+        Ok(all)
+    }
+}
+
+/// Calibrates `base` against `measured`.
+pub fn calibrate(
+    measured: &MeasuredSet,
+    base: &Config,
+    settings: &Settings,
+    cache: &RunCache,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<Calibration, String> {
+    if settings.seeds.is_empty() {
+        return Err("calibration needs at least one sample seed".into());
+    }
+    let mut predictor = Predictor {
+        measured,
+        cache,
+        settings,
+        progress,
+        runs: 0,
+    };
+    let has_omni = measured
+        .compression
+        .iter()
+        .any(|c| c.geometry == Geometry::Omni);
+    let mut current = base.clone();
+    let mut current_predictions = predictor
+        .predict(std::slice::from_ref(&current), "baseline")?
+        .remove(0);
+    let baseline = current_predictions.clone();
+    let mut applied: Vec<(Effect, f64)> = Vec::new();
+    let mut rounds = Vec::new();
+    for round in 1..=settings.max_rounds.max(1) {
+        let before = gap(measured, &current_predictions);
+        progress(&format!(
+            "round {round}: chi2 = {:.2} over {} curve(s), noise threshold {:.2}",
+            before.chi2,
+            before.curves.len(),
+            before.threshold
+        ));
+        if before.within_noise() {
+            progress(&format!(
+                "round {round}: the gap is within sample-to-sample and measurement noise"
+            ));
+            rounds.push(Round {
+                gap_before: before,
+                fits: Vec::new(),
+                decision: Decision::WithinNoise,
+                applied: None,
+                gap_after: None,
+                rejected: false,
+            });
+            break;
+        }
+        let effects: Vec<Effect> = settings
+            .effects
+            .iter()
+            .copied()
+            .filter(|e| e.applies(&current, has_omni) && !applied.iter().any(|(a, _)| a == e))
+            .collect();
+        let grids = fit_grids(
+            &mut predictor,
+            &current,
+            &current_predictions,
+            &effects,
+            round,
+        )?;
+        let (fits, decision) = attribute(measured, &before, &grids);
+        report_fits(progress, round, &fits, &decision);
+        let chosen = match &decision {
+            Decision::Named(e) => Some(*e),
+            Decision::Undetermined(tied) => Some(tied[0]),
+            _ => None,
+        };
+        let Some(effect) = chosen else {
+            rounds.push(Round {
+                gap_before: before,
+                fits,
+                decision,
+                applied: None,
+                gap_after: None,
+                rejected: false,
+            });
+            break;
+        };
+        let factor = fits
+            .iter()
+            .find(|f| f.effect == effect)
+            .expect("fitted")
+            .factor;
+        let corrected = effect.apply(&current, factor);
+        let after_predictions = predictor
+            .predict(
+                std::slice::from_ref(&corrected),
+                &format!("round {round}: re-run with {}", effect.name()),
+            )?
+            .remove(0);
+        let after = gap(measured, &after_predictions);
+        let rejected = after.chi2 >= before.chi2;
+        progress(&format!(
+            "round {round}: re-simulated with {} x{:.3}: chi2 {:.2} -> {:.2}{}",
+            effect.name(),
+            factor,
+            before.chi2,
+            after.chi2,
+            if rejected { " (not kept)" } else { "" }
+        ));
+        let undetermined = matches!(decision, Decision::Undetermined(_));
+        rounds.push(Round {
+            gap_before: before,
+            fits,
+            decision,
+            applied: Some((effect, factor)),
+            gap_after: Some(after.clone()),
+            rejected,
+        });
+        if rejected {
+            break;
+        }
+        applied.push((effect, factor));
+        current = corrected;
+        current_predictions = after_predictions;
+        // With several equally good explanations a further round would build on a guess.
+        if undetermined || after.within_noise() {
+            break;
+        }
+    }
+    Ok(Calibration {
+        measured: measured.clone(),
+        settings: settings.clone(),
+        base: base.clone(),
+        corrected: current,
+        applied,
+        rounds,
+        baseline,
+        final_predictions: current_predictions,
+        runs: predictor.runs,
+    })
+}
+
+/// Screens every effect at the ends of its range and refines the best candidates.
+fn fit_grids(
+    predictor: &mut Predictor,
+    current: &Config,
+    current_predictions: &[Prediction],
+    effects: &[Effect],
+    round: usize,
+) -> Result<Vec<Grid>, String> {
+    let settings = predictor.settings;
+    let measured = predictor.measured;
+    let mut grids: Vec<Grid> = effects.iter().map(|&e| Grid::new(e)).collect();
+    let mut screen = Vec::new();
+    for g in &mut grids {
+        g.insert(0.0, current_predictions.to_vec());
+        let (lo, hi) = g.effect.range();
+        screen.push((g.effect, lo));
+        screen.push((g.effect, hi));
+    }
+    add_points(predictor, &mut grids, &screen, current, round, "screen")?;
+    let mut ranked: Vec<(f64, usize)> = grids
+        .iter()
+        .enumerate()
+        .map(|(k, g)| (g.minimum(measured).1, k))
+        .collect();
+    ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let candidates: Vec<usize> = ranked
+        .iter()
+        .take(settings.candidates)
+        .map(|&(_, k)| k)
+        .collect();
+    for pass in 1..=settings.refinements {
+        let wanted: Vec<(Effect, f64)> = candidates
+            .iter()
+            .filter_map(|&k| {
+                grids[k]
+                    .next_point(measured, REFINE_TOLERANCE)
+                    .map(|u| (grids[k].effect, u.exp()))
+            })
+            .collect();
+        if wanted.is_empty() {
+            break;
+        }
+        add_points(
+            predictor,
+            &mut grids,
+            &wanted,
+            current,
+            round,
+            &format!("refine {pass}"),
+        )?;
+    }
+    Ok(grids)
+}
+
+fn add_points(
+    predictor: &mut Predictor,
+    grids: &mut [Grid],
+    points: &[(Effect, f64)],
+    current: &Config,
+    round: usize,
+    what: &str,
+) -> Result<(), String> {
+    let configs: Vec<Config> = points.iter().map(|&(e, f)| e.apply(current, f)).collect();
+    let predictions = predictor.predict(&configs, &format!("round {round}: {what}"))?;
+    for (&(effect, factor), p) in points.iter().zip(predictions) {
+        let grid = grids
+            .iter_mut()
+            .find(|g| g.effect == effect)
+            .expect("grid per effect");
+        grid.insert(factor.ln(), p);
+    }
+    Ok(())
+}
+
+fn report_fits(progress: &dyn Fn(&str), round: usize, fits: &[EffectFit], decision: &Decision) {
+    for f in fits {
+        progress(&format!(
+            "round {round}: {:<24} factor {:>8.3} [{:.3}, {:.3}] chi2 {:>9.2} explained {:>5.1}% confidence {:.2}",
+            f.effect.name(),
+            f.factor,
+            f.interval.0,
+            f.interval.1,
+            f.chi2,
+            100.0 * f.explained,
+            f.confidence
+        ));
+    }
+    progress(&format!("round {round}: {}", describe_decision(decision)));
+}
+
+/// One sentence for a decision.
+pub fn describe_decision(d: &Decision) -> String {
+    match d {
+        Decision::WithinNoise => {
+            "the gap is within sample-to-sample and measurement noise: no effect is named".into()
+        }
+        Decision::NoEffectExplains => {
+            "no single effect lowers the gap significantly: no effect is named".into()
+        }
+        Decision::Named(e) => format!("named: {}", e.name()),
+        Decision::Undetermined(tied) => format!(
+            "undetermined: {} explain the data equally well; more or different data are needed \
+             to tell them apart",
+            tied.iter().map(|e| e.name()).collect::<Vec<_>>().join(", ")
+        ),
+    }
+}
