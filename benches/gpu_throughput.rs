@@ -3,8 +3,10 @@
 //! compression at 1 m/s, for N = 10³, 10⁴ (override with `DUSTDEM_BENCH_SIZES=1000,10000,100000`),
 //! with the time per pass of the GPU step. Prints a Markdown table.
 //!
-//! Run: `cargo bench --bench gpu_throughput`. Per-pass times come from repeating one pass alone
-//! in a submission, so they include the per-dispatch cost and do not add up to the step exactly.
+//! Run: `cargo bench --bench gpu_throughput`. Per-pass times come from timestamps written
+//! before and after every dispatch of 20 ordinary steps (where the device has timestamp queries
+//! inside passes); they leave out the gaps between dispatches, so they add up to less than the
+//! step.
 
 use dustdem::config::Config;
 use dustdem::experiment::compression::Compression;
@@ -78,12 +80,13 @@ fn main() {
         gpu.engine.run(steps).expect("run");
         let seconds = clock.elapsed().as_secs_f64();
         let gpu_rate = n as f64 * steps as f64 / seconds;
-        let passes: Vec<String> = gpu
-            .engine
-            .time_kernels(20)
-            .iter()
-            .map(|(_, s)| format!("{:.0}", s * 1e6))
-            .collect();
+        let passes: Vec<String> = match gpu.engine.profile_passes(20).expect("profiled steps") {
+            Some(times) => times
+                .iter()
+                .map(|(_, s)| format!("{:.0}", s * 1e6))
+                .collect(),
+            None => vec!["–".into(); names.len()],
+        };
         println!(
             "| {n} | {steps} | {gpu_rate:.3e} | {cpu_rate:.3e} | {:.2} | {:.0} | {} |",
             gpu_rate / cpu_rate,

@@ -475,3 +475,21 @@ fn reductions_match_their_cpu_twin_to_the_bit() {
     assert_eq!(d.pair_contacts, sums.pair_contacts);
     assert_eq!(d.wall_contacts, sums.wall_contacts);
 }
+
+#[test]
+fn profiled_steps_are_ordinary_steps() {
+    let state = crafted().cpu;
+    let (Some(mut profiled), Some(mut plain)) = (gpu_of(&state), gpu_of(&state)) else {
+        return;
+    };
+    let Some(times) = profiled.profile_passes(5).unwrap() else {
+        eprintln!("notice: no timestamp queries inside passes on this device");
+        return;
+    };
+    plain.run(5).unwrap();
+    assert_eq!(times.len(), GpuEngine::STEP.len());
+    assert!(times.iter().all(|(_, s)| *s > 0.0), "{times:?}");
+    assert_eq!(profiled.step, plain.step);
+    assert_eq!(profiled.positions(), plain.positions());
+    assert_eq!(profiled.diagnostics(), plain.diagnostics());
+}

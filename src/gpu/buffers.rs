@@ -288,3 +288,47 @@ impl Buffers {
         (FLAG_COUNT as u64 * 4).next_multiple_of(8) + DIAG_SIZE as u64 * 8
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The limits lavapipe reports (32 storage buffers per stage, 128 MiB per binding).
+    fn lavapipe() -> wgpu::Limits {
+        wgpu::Limits {
+            max_storage_buffers_per_shader_stage: 32,
+            max_storage_buffer_binding_size: 128 << 20,
+            max_buffer_size: 2 << 30,
+            ..wgpu::Limits::default()
+        }
+    }
+
+    #[test]
+    fn a_problem_too_large_for_a_binding_names_it_and_what_to_lower() {
+        let sizes = Sizes::new(1_000_000, 6, 12, 3);
+        let error = sizes.check(&lavapipe()).unwrap_err();
+        assert_eq!(sizes.largest_binding().0, "pair_torque");
+        let text = error.to_string();
+        assert!(
+            text.contains("1000000 monomers need 768000000 B in the `pair_torque` binding")
+                && text.contains("134217728 B per storage binding")
+                && text.contains("pair_slots"),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn the_largest_problem_that_fits_fills_the_largest_binding() {
+        // pair_force and pair_torque: 2 vec4<f64> per pair slot, 12 × 64 = 768 B per monomer.
+        let limit = (128usize << 20) / (12 * 2 * VEC4 as usize);
+        assert_eq!(limit, 174_762);
+        assert!(Sizes::new(limit, 6, 12, 3).check(&lavapipe()).is_ok());
+        assert!(Sizes::new(limit + 1, 6, 12, 3).check(&lavapipe()).is_err());
+        // Fewer slots, more monomers.
+        assert!(Sizes::new(2 * limit, 6, 6, 3).check(&lavapipe()).is_ok());
+        assert!(
+            BINDINGS.len() <= 32,
+            "lavapipe binds 32 storage buffers per stage"
+        );
+    }
+}

@@ -11,6 +11,9 @@ use std::fmt;
 
 /// Features every pass may rely on. Matches [`super::shader::CAPABILITIES`].
 pub const REQUIRED_FEATURES: wgpu::Features = wgpu::Features::SHADER_F64;
+/// Taken where offered, for the per-pass times of the benchmark (GpuEngine::profile_passes).
+pub const TIMING_FEATURES: wgpu::Features =
+    wgpu::Features::TIMESTAMP_QUERY.union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES);
 
 /// Asked for when a Vulkan adapter offers it: SPIR-V passthrough carries the shaders whose
 /// float operations are marked `NoContraction` ([`FloatMode::Exact`]).
@@ -207,7 +210,7 @@ impl GpuContext {
         let features = match float_mode {
             FloatMode::Exact => REQUIRED_FEATURES | EXACT_FLOAT_FEATURES,
             FloatMode::Relaxed => REQUIRED_FEATURES,
-        };
+        } | (adapter.features() & TIMING_FEATURES);
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("dustdem"),

@@ -404,20 +404,6 @@ impl GpuEngine {
         self.wait();
     }
 
-    /// Seconds per dispatch of each kernel of [`GpuEngine::STEP`], from `repeats` dispatches of
-    /// that kernel alone in one submission. For benchmarks only: the repeated passes leave the
-    /// state where no sequence of steps would (kicked `repeats` times, for instance).
-    pub fn time_kernels(&mut self, repeats: u32) -> Vec<(Kernel, f64)> {
-        Self::STEP
-            .iter()
-            .map(|&k| {
-                let clock = std::time::Instant::now();
-                self.dispatch(&vec![k; repeats as usize]);
-                (k, clock.elapsed().as_secs_f64() / f64::from(repeats))
-            })
-            .collect()
-    }
-
     fn wait(&self) {
         self.ctx
             .device
@@ -446,19 +432,90 @@ impl GpuEngine {
                 }
             }
             self.ctx.queue.submit([encoder.finish()]);
-            // The device moves the walls the same way, so these points equal its own.
-            for _ in 0..batch {
-                for w in &mut self.walls {
-                    w.point += w.velocity * self.dt;
-                }
-            }
-            self.step += batch;
-            self.time += batch as f64 * self.dt;
+            self.advanced(batch)?;
             left -= batch;
-            self.read_small()?;
-            self.clear_wall_force_sum();
         }
         Ok(())
+    }
+
+    /// Host side of `steps` steps just submitted: walls, step, time, and the small block.
+    fn advanced(&mut self, steps: u64) -> Result<(), GpuError> {
+        // The device moves the walls the same way, so these points equal its own.
+        for _ in 0..steps {
+            for w in &mut self.walls {
+                w.point += w.velocity * self.dt;
+            }
+        }
+        self.step += steps;
+        self.time += steps as f64 * self.dt;
+        self.read_small()?;
+        self.clear_wall_force_sum();
+        Ok(())
+    }
+
+    /// Advances `steps` ordinary steps (one submission, at most 186) with a timestamp before
+    /// and after every dispatch, and returns the mean seconds per step of each kernel of
+    /// [`GpuEngine::STEP`]; `None` where the device lacks timestamp queries inside passes.
+    pub fn profile_passes(&mut self, steps: u32) -> Result<Option<Vec<(Kernel, f64)>>, GpuError> {
+        let device = &self.ctx.device;
+        if !device.features().contains(super::context::TIMING_FEATURES) {
+            return Ok(None);
+        }
+        let kernels = Self::STEP.len() as u32;
+        let count = 2 * kernels * steps;
+        assert!(
+            count <= wgpu::QUERY_SET_MAX_QUERIES,
+            "too many steps to profile"
+        );
+        let queries = device.create_query_set(&wgpu::QuerySetDescriptor {
+            label: Some("pass times"),
+            ty: wgpu::QueryType::Timestamp,
+            count,
+        });
+        let bytes = u64::from(count) * 8;
+        let resolved = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("pass times"),
+            size: bytes,
+            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let staging = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("pass times readback"),
+            size: bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            let mut query = 0;
+            for _ in 0..steps {
+                for k in Self::STEP {
+                    pass.write_timestamp(&queries, query);
+                    self.encode(&mut pass, &[k]);
+                    pass.write_timestamp(&queries, query + 1);
+                    query += 2;
+                }
+            }
+        }
+        encoder.resolve_query_set(&queries, 0..count, &resolved, 0);
+        encoder.copy_buffer_to_buffer(&resolved, 0, &staging, 0, bytes);
+        self.ctx.queue.submit([encoder.finish()]);
+        let ticks: Vec<u64> = bytemuck::pod_collect_to_vec(&map_read(&self.ctx, &staging, bytes));
+        let period = f64::from(self.ctx.queue.get_timestamp_period()) * 1e-9;
+        let mut seconds = vec![0.0; Self::STEP.len()];
+        for (q, pair) in ticks.chunks_exact(2).enumerate() {
+            seconds[q % Self::STEP.len()] += pair[1].saturating_sub(pair[0]) as f64 * period;
+        }
+        self.advanced(u64::from(steps))?;
+        Ok(Some(
+            Self::STEP
+                .iter()
+                .zip(seconds)
+                .map(|(&k, s)| (k, s / f64::from(steps)))
+                .collect(),
+        ))
     }
 
     fn clear_wall_force_sum(&self) {
