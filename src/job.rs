@@ -365,6 +365,22 @@ fn drive<E: Engine>(
         Err(RunError::Engine(error)) => {
             return Err(keep_failed_state(config, out_dir, &run, error))
         }
+        Err(RunError::Gpu(GpuError::DeviceLost(why))) => {
+            // Nothing on the device can be read: the last checkpoint is what survives.
+            let last = out_dir.join(CHECKPOINT_FILE);
+            let resume = if last.exists() {
+                format!(
+                    "continue from the last checkpoint with `dustdem resume {}`",
+                    last.display()
+                )
+            } else {
+                "no checkpoint had been written yet".to_string()
+            };
+            return Err(RunError::Output(format!(
+                "the GPU failed after step {}: {why}; {resume}",
+                run.engine.step_count()
+            )));
+        }
         Err(other) => return Err(other),
     };
     write_snapshot(out_dir, snapshot_format, &run.engine.state(), "").map_err(io_err(out_dir))?;

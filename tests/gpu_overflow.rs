@@ -1,5 +1,5 @@
-//! Overflows on the device are detected and reported with the monomer, the limit and what to
-//! raise, never dropped: contact slots, cell-table buckets and candidate lists.
+//! Device failures are detected and reported, never dropped or panicked on: overflows of contact
+//! slots, cell-table buckets and candidate lists (with the monomer, the limit and what to raise), and a lost device.
 
 use dustdem::config::Config;
 use dustdem::cpu::state::Monomers;
@@ -100,4 +100,23 @@ fn a_full_cell_bucket_is_reported() {
         error.to_string().contains("DEFAULT_BUCKET_CAPACITY"),
         "{error}"
     );
+}
+
+#[test]
+fn a_lost_device_is_an_error_not_a_panic() {
+    let config = Config::parse("[sample]\nmonomers = 200\n", "device loss test").unwrap();
+    let Some(ctx) = context_for_tests() else {
+        return;
+    };
+    let mut run = Compression::with_engine(&config, |law, dt, m, w, ps, ws| {
+        Ok(GpuEngine::new(ctx, law, dt, m, w, ps, ws)?)
+    })
+    .unwrap();
+    run.engine.run(200).unwrap();
+    run.engine.ctx.device.destroy();
+    match run.engine.run(200) {
+        Err(GpuError::DeviceLost(why)) => eprintln!("reported: {why}"),
+        Err(other) => panic!("wrong error: {other}"),
+        Ok(()) => panic!("a destroyed device cannot run"),
+    }
 }

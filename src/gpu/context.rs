@@ -8,6 +8,7 @@
 
 use super::shader::FloatMode;
 use std::fmt;
+use std::sync::{Arc, Mutex};
 
 /// Features every pass may rely on. Matches [`super::shader::CAPABILITIES`].
 pub const REQUIRED_FEATURES: wgpu::Features = wgpu::Features::SHADER_F64;
@@ -174,6 +175,9 @@ pub struct GpuContext {
     pub queue: wgpu::Queue,
     /// How shaders reach this device; `Exact` wherever the adapter allows it.
     pub float_mode: FloatMode,
+    /// Why the device was lost, or the first error it reported outside any error scope
+    /// (wgpu's default would panic): the engine turns it into an error at its next read.
+    pub failure: Arc<Mutex<Option<String>>>,
 }
 
 impl GpuContext {
@@ -223,16 +227,41 @@ impl GpuContext {
                 adapter: adapter.get_info().name,
                 error,
             })?;
+        let failure = Arc::new(Mutex::new(None));
+        let lost = Arc::clone(&failure);
+        device.set_device_lost_callback(move |reason, message| {
+            record_failure(&lost, format!("device lost ({reason:?}): {message}"));
+        });
+        let errors = Arc::clone(&failure);
+        device.on_uncaptured_error(Arc::new(move |error: wgpu::Error| {
+            record_failure(&errors, error.to_string());
+        }));
         Ok(GpuContext {
             adapter,
             device,
             queue,
             float_mode,
+            failure,
         })
     }
 
     pub fn summary(&self) -> AdapterSummary {
         adapter_summary(&self.adapter)
+    }
+
+    /// The recorded failure, if the device has failed.
+    pub fn failure(&self) -> Option<String> {
+        self.failure
+            .lock()
+            .map_or_else(|p| p.into_inner().clone(), |f| f.clone())
+    }
+}
+
+/// Keeps the first failure: later ones are usually its consequences.
+fn record_failure(slot: &Mutex<Option<String>>, message: String) {
+    let mut slot = slot.lock().unwrap_or_else(|p| p.into_inner());
+    if slot.is_none() {
+        *slot = Some(message);
     }
 }
 

@@ -40,6 +40,8 @@ pub enum GpuError {
         monomer: usize,
         capacity: usize,
     },
+    /// The device was lost or reported an error: nothing on it can be trusted or read.
+    DeviceLost(String),
     /// More contacts with owners of lower index than the gather list holds.
     IncomingOverflow {
         monomer: usize,
@@ -64,6 +66,7 @@ impl fmt::Display for GpuError {
                 "monomer {monomer} has more than {capacity} candidate partners within 2r + skin \
                  (gpu::layout::NEIGHBOUR_CAPACITY); monomers overlap far beyond contact"
             ),
+            GpuError::DeviceLost(why) => write!(f, "the GPU failed: {why}"),
             GpuError::IncomingOverflow { monomer, capacity } => write!(
                 f,
                 "monomer {monomer} has more than {capacity} contacts with lower-index monomers \
@@ -401,14 +404,16 @@ impl GpuEngine {
             self.encode(&mut pass, kernels);
         }
         self.ctx.queue.submit([encoder.finish()]);
-        self.wait();
+        self.wait().expect("the device failed during a pass test");
     }
 
-    fn wait(&self) {
-        self.ctx
-            .device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .expect("waiting for the device");
+    fn wait(&self) -> Result<(), GpuError> {
+        let polled = self.ctx.device.poll(wgpu::PollType::wait_indefinitely());
+        match (self.ctx.failure(), polled) {
+            (Some(why), _) => Err(GpuError::DeviceLost(why)),
+            (None, Err(e)) => Err(GpuError::DeviceLost(e.to_string())),
+            (None, Ok(_)) => Ok(()),
+        }
     }
 
     /// Advances one step (one submission: prefer [`GpuEngine::run`]).
@@ -502,7 +507,7 @@ impl GpuEngine {
         encoder.resolve_query_set(&queries, 0..count, &resolved, 0);
         encoder.copy_buffer_to_buffer(&resolved, 0, &staging, 0, bytes);
         self.ctx.queue.submit([encoder.finish()]);
-        let ticks: Vec<u64> = bytemuck::pod_collect_to_vec(&map_read(&self.ctx, &staging, bytes));
+        let ticks: Vec<u64> = bytemuck::pod_collect_to_vec(&map_read(&self.ctx, &staging, bytes)?);
         let period = f64::from(self.ctx.queue.get_timestamp_period()) * 1e-9;
         let mut seconds = vec![0.0; Self::STEP.len()];
         for (q, pair) in ticks.chunks_exact(2).enumerate() {
@@ -565,7 +570,7 @@ impl GpuEngine {
             &self.ctx,
             &self.buffers.small_readback,
             Buffers::small_bytes(),
-        );
+        )?;
         let flags: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes[..flag_bytes as usize]);
         let diag: Vec<f64> = bytemuck::pod_collect_to_vec(&bytes[diag_at as usize..]);
         for (total, since) in self.totals.iter_mut().zip(&diag[..layout::TALLY_STRIDE]) {
@@ -684,7 +689,10 @@ impl GpuEngine {
             bytes.next_multiple_of(8),
         );
         self.ctx.queue.submit([encoder.finish()]);
-        let raw = map_read(&self.ctx, &staging, bytes.next_multiple_of(8));
+        // Full-state reads come after a successful read of the small block; a device failing
+        // in between is a narrow race, reported here with what failed.
+        let raw = map_read(&self.ctx, &staging, bytes.next_multiple_of(8))
+            .unwrap_or_else(|e| panic!("reading `{name}` back from the GPU: {e}"));
         bytemuck::pod_collect_to_vec(&raw[..bytes as usize])
     }
 
@@ -850,18 +858,33 @@ impl Engine for GpuEngine {
     }
 }
 
-/// Maps `buffer` (MAP_READ), waits, and copies out its first `bytes` bytes.
-fn map_read(ctx: &GpuContext, buffer: &wgpu::Buffer, bytes: u64) -> Vec<u8> {
+/// Maps `buffer` (MAP_READ), waits, and copies out its first `bytes` bytes; a failed device
+/// is an error, not a panic.
+fn map_read(ctx: &GpuContext, buffer: &wgpu::Buffer, bytes: u64) -> Result<Vec<u8>, GpuError> {
     let slice = buffer.slice(..bytes);
-    slice.map_async(wgpu::MapMode::Read, |r| {
-        r.expect("mapping a readback buffer")
+    let mapped = std::sync::Arc::new(std::sync::Mutex::new(None));
+    let done = std::sync::Arc::clone(&mapped);
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        *done.lock().unwrap_or_else(|p| p.into_inner()) = Some(r);
     });
-    ctx.device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .expect("waiting for the device");
-    let view = slice.get_mapped_range().expect("mapped readback");
-    let out = view.to_vec();
-    drop(view);
+    let polled = ctx.device.poll(wgpu::PollType::wait_indefinitely());
+    let failed = |why: String| Err(GpuError::DeviceLost(ctx.failure().unwrap_or(why)));
+    if let Err(e) = polled {
+        return failed(e.to_string());
+    }
+    let result = mapped.lock().unwrap_or_else(|p| p.into_inner()).take();
+    match result {
+        Some(Ok(())) => {}
+        Some(Err(e)) => return failed(format!("mapping a readback buffer: {e}")),
+        None => return failed("a readback never completed".into()),
+    }
+    if let Some(why) = ctx.failure() {
+        return Err(GpuError::DeviceLost(why));
+    }
+    let out = match slice.get_mapped_range() {
+        Ok(view) => view.to_vec(),
+        Err(e) => return failed(format!("reading a mapped buffer: {e}")),
+    };
     buffer.unmap();
-    out
+    Ok(out)
 }
