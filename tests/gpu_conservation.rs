@@ -11,24 +11,6 @@ use dustdem::cpu::{DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
 use dustdem::gpu::context::context_for_tests;
 use dustdem::gpu::engine::GpuEngine;
 use dustdem::model::{ContactLaw, Damping};
-use glam::DVec3;
-
-/// A 50-monomer tree aggregate drifting and spinning as a whole, with random velocities on top
-/// (the state of tests/conservation.rs).
-fn moving_cluster(law: &ContactLaw, random_speed: f64, seed: u64) -> Monomers {
-    let pos = tree_aggregate(law, 50, seed);
-    let centre: DVec3 = pos.iter().copied().sum::<DVec3>() / pos.len() as f64;
-    let mut m = Monomers::new(pos);
-    let mut rng = SplitMix64(seed ^ 0xabcdef);
-    let spin = DVec3::new(300.0, -500.0, 800.0);
-    for i in 0..m.len() {
-        m.velocity[i] = DVec3::new(2.0, -1.0, 0.5)
-            + spin.cross(m.position[i] - centre)
-            + rng.unit_vector() * (random_speed * rng.unit());
-        m.angular_velocity[i] = spin + rng.unit_vector() * (random_speed / law.radius * rng.unit());
-    }
-    m
-}
 
 fn gpu_engine(law: ContactLaw, dt: f64, m: Monomers) -> Option<GpuEngine> {
     let ctx = context_for_tests()?;

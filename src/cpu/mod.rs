@@ -511,10 +511,7 @@ mod codec {
             e.u64(self.step);
             e.f64(self.time);
             e.f64(self.wall_work);
-            let t = &self.tally;
-            for v in [
-                t.breaking, t.forming, t.damping, t.rolling, t.sliding, t.twisting, t.walls,
-            ] {
+            for v in self.tally.channels() {
                 e.f64(v);
             }
             let m = &self.monomers;

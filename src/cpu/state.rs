@@ -169,6 +169,34 @@ pub struct Dissipation {
 }
 
 impl Dissipation {
+    /// The channels in a fixed order (checkpoints, the GPU tally): breaking, forming, damping,
+    /// rolling, sliding, twisting, walls.
+    pub fn channels(&self) -> [f64; 7] {
+        [
+            self.breaking,
+            self.forming,
+            self.damping,
+            self.rolling,
+            self.sliding,
+            self.twisting,
+            self.walls,
+        ]
+    }
+
+    /// The inverse of [`Dissipation::channels`].
+    pub fn from_channels(c: [f64; 7]) -> Self {
+        let [breaking, forming, damping, rolling, sliding, twisting, walls] = c;
+        Dissipation {
+            breaking,
+            forming,
+            damping,
+            rolling,
+            sliding,
+            twisting,
+            walls,
+        }
+    }
+
     pub fn total(&self) -> f64 {
         self.breaking
             + self.forming

@@ -242,17 +242,8 @@ impl GpuEngine {
         )?;
         engine.step = state.step;
         engine.time = state.time;
-        let t = &state.tally;
-        engine.totals = [
-            t.breaking,
-            t.forming,
-            t.damping,
-            t.rolling,
-            t.sliding,
-            t.twisting,
-            t.walls,
-            state.wall_work,
-        ];
+        engine.totals[..7].copy_from_slice(&state.tally.channels());
+        engine.totals[7] = state.wall_work;
         engine.read_small()?;
         engine.diagnostics.wall_force = state.wall_force.clone();
         Ok(engine)
@@ -587,15 +578,7 @@ impl GpuEngine {
         };
         let steps = diag[layout::DIAG_STEPS];
         self.diagnostics = Diagnostics {
-            tally: Dissipation {
-                breaking: t[0],
-                forming: t[1],
-                damping: t[2],
-                rolling: t[3],
-                sliding: t[4],
-                twisting: t[5],
-                walls: t[6],
-            },
+            tally: Dissipation::from_channels(std::array::from_fn(|k| t[k])),
             wall_work: t[7],
             pair_contacts: diag[layout::DIAG_PAIR_CONTACTS] as usize,
             wall_contacts: diag[layout::DIAG_WALL_CONTACTS] as usize,
