@@ -484,3 +484,102 @@ fn profiled_steps_are_ordinary_steps() {
     assert_eq!(profiled.positions(), plain.positions());
     assert_eq!(profiled.diagnostics(), plain.diagnostics());
 }
+
+/// |ξ|, |ζ| and |φ| of every pair contact, and |ξ|, |ζ|, ξ_crit, ζ_crit of every wall contact,
+/// in slot order.
+fn displacements(e: &CpuEngine, table: &ContactTable) -> (Vec<[f64; 3]>, Vec<[f64; 4]>) {
+    use dustdem::model::{rolling, sliding, wall};
+    let (r, x) = (e.law.radius, &e.monomers.position);
+    let mut pairs = Vec::new();
+    let mut walls = Vec::new();
+    for i in 0..x.len() {
+        for c in table.pairs_of(i) {
+            let nc = (x[i] - x[c.partner as usize]).normalize();
+            pairs.push([
+                rolling::rolling_displacement(c.n1, c.n2, e.law.pair.reduced_radius).length(),
+                sliding::sliding_displacement(c.n1, c.n2, nc, r, r).length(),
+                c.twist.abs(),
+            ]);
+        }
+        for c in table.walls_of(i) {
+            let w = &e.walls[c.wall as usize];
+            walls.push([
+                wall::wall_rolling_displacement(c.n1, w.normal, r).length(),
+                wall::wall_sliding_displacement(x[i], c.n1, r, c.anchor, w.normal).length(),
+                w.constants.xi_crit,
+                w.constants.zeta_crit,
+            ]);
+        }
+    }
+    (pairs, walls)
+}
+
+#[test]
+fn inelastic_corrections_on_the_gpu_land_on_the_critical_lengths() {
+    // The crafted state turns n₁ alone for rolling, which also slides; add pure rolling
+    // (n₁ and n₂ turned by opposite angles: ξ grows, ζ stays 0) on every 7th monomer's first
+    // contact, so the rolling correction is seen alone.
+    let mut state = crafted().cpu;
+    let x = state.monomers.position.clone();
+    let slots = state.contacts.pair_slots;
+    for i in (0..x.len()).step_by(7) {
+        if state.contacts.pair_count[i] > 0 {
+            let c = &mut state.contacts.pair[i * slots];
+            let nc = (x[i] - x[c.partner as usize]).normalize();
+            let axis = perpendicular(nc, i);
+            c.n1 = turn(-nc, axis, 0.01);
+            c.n2 = turn(nc, axis, -0.01);
+        }
+    }
+    let Some(mut gpu) = gpu_of(&state) else {
+        return;
+    };
+    gpu.dispatch(&[Kernel::Forces, Kernel::WallForces]);
+    let after_table = gpu.contacts();
+    let k = state.law.pair;
+    let (before, before_walls) = displacements(&state, &state.contacts);
+    let (after, after_walls) = displacements(&state, &after_table);
+    let on_limit = |x: f64, crit: f64| (x / crit - 1.0).abs() < 1e-9;
+    let mut corrected = [0; 5];
+    for (b, a) in before.iter().zip(&after) {
+        // Rolling alone (a sliding correction that follows moves ξ at second order).
+        if b[0] > k.xi_crit && b[1] <= k.zeta_crit {
+            assert!(
+                on_limit(a[0], k.xi_crit),
+                "rolling {:e} vs {:e}",
+                a[0],
+                k.xi_crit
+            );
+            corrected[0] += 1;
+        }
+        if b[1] > k.zeta_crit {
+            assert!(on_limit(a[1], k.zeta_crit), "sliding {:e}", a[1]);
+            corrected[1] += 1;
+        }
+        if b[2] > k.phi_crit {
+            assert_eq!(a[2], k.phi_crit);
+            corrected[2] += 1;
+        }
+    }
+    for (b, a) in before_walls.iter().zip(&after_walls) {
+        if b[0] > b[2] {
+            assert!(on_limit(a[0], b[2]), "wall rolling {:e}", a[0]);
+            corrected[3] += 1;
+        }
+        if b[1] > b[3] {
+            assert!(on_limit(a[1], b[3]), "wall sliding {:e}", a[1]);
+            corrected[4] += 1;
+        }
+    }
+    eprintln!("corrected on the GPU: pair rolling, sliding, twisting, wall rolling, sliding: {corrected:?}");
+    assert!(corrected.iter().all(|c| *c > 0), "{corrected:?}");
+    let n = state.monomers.len();
+    for i in 0..n {
+        for c in after_table.pairs_of(i) {
+            assert!((c.n1.length() - 1.0).abs() < 1e-14 && (c.n2.length() - 1.0).abs() < 1e-14);
+        }
+        for c in after_table.walls_of(i) {
+            assert!((c.n1.length() - 1.0).abs() < 1e-14);
+        }
+    }
+}
