@@ -2,6 +2,9 @@
 
 use clap::{Parser, Subcommand};
 use dustdem::analysis::fit::{fit_eq13, FitOptions};
+use dustdem::calibrate::measured::Geometry;
+use dustdem::calibrate::synth::{write_synth, SynthSpec};
+use dustdem::calibrate::{parse_effect, run_calibration, Settings};
 use dustdem::config::{stable_time_step, Config, ExperimentKind};
 use dustdem::experiment::collision::analytic_sticking_speed;
 use dustdem::experiment::setup::build_sample;
@@ -82,6 +85,64 @@ enum Command {
         /// N for the GPU memory estimate (default: the config's sample size).
         #[arg(long)]
         monomers: Option<usize>,
+    },
+    /// Compare a config with measured data and name the effect that explains the gap; writes
+    /// report.md, calibration.png and corrected.toml.
+    Calibrate {
+        /// Measured-data file (see configs/measured/).
+        #[arg(long)]
+        measured: PathBuf,
+        /// Base config: material, model, sample size, wall speed, time step.
+        #[arg(long)]
+        config: PathBuf,
+        #[arg(long, default_value = "runs/calibration")]
+        out: PathBuf,
+        /// RBD sample seeds; each compression curve is simulated once per seed.
+        #[arg(long, value_delimiter = ',', default_value = "1,2,3")]
+        seeds: Vec<u64>,
+        /// Effects added one after the other at most.
+        #[arg(long, default_value_t = 2)]
+        rounds: usize,
+        /// Simulation threads (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
+    },
+    /// Write measured-like data from the simulator, with effects switched on and noise added.
+    Synth {
+        /// Base config (sample size, wall speed, time step, model).
+        #[arg(long)]
+        config: PathBuf,
+        /// An effect and its factor, e.g. rolling_stiffness=8 (repeatable).
+        #[arg(long)]
+        effect: Vec<String>,
+        /// Compression curves to write: omni, uni or both.
+        #[arg(long, value_delimiter = ',', default_value = "omni")]
+        geometry: Vec<Geometry>,
+        /// Leave out the sticking velocity.
+        #[arg(long)]
+        no_sticking: bool,
+        /// RBD sample seeds averaged per curve.
+        #[arg(long, value_delimiter = ',', default_value = "101,102,103")]
+        seeds: Vec<u64>,
+        #[arg(long, default_value_t = 1e2)]
+        p_min: f64,
+        #[arg(long, default_value_t = 1e5)]
+        p_max: f64,
+        /// Points per curve.
+        #[arg(long, default_value_t = 10)]
+        points: usize,
+        /// 1-sigma noise added to each filling factor.
+        #[arg(long, default_value_t = 0.005)]
+        noise: f64,
+        /// Relative 1-sigma noise of the sticking velocity.
+        #[arg(long, default_value_t = 0.05)]
+        sticking_noise: f64,
+        #[arg(long, default_value_t = 1)]
+        noise_seed: u64,
+        #[arg(long)]
+        out: PathBuf,
+        #[arg(long)]
+        threads: Option<usize>,
     },
 }
 
@@ -386,6 +447,58 @@ fn gpu_info(config: &Config, n: usize) {
     }
 }
 
+fn calibrate(
+    measured: &Path,
+    config: &Path,
+    out: &Path,
+    seeds: Vec<u64>,
+    rounds: usize,
+    threads: Option<usize>,
+) -> Result<(), String> {
+    let mut settings = Settings {
+        seeds,
+        max_rounds: rounds,
+        ..Settings::default()
+    };
+    if let Some(t) = threads {
+        settings.threads = t;
+    }
+    let progress = |line: &str| eprintln!("{line}");
+    let (lines, files) = run_calibration(measured, config, out, &settings, &progress)?;
+    for line in lines {
+        println!("{line}");
+    }
+    println!("results in {}:", out.display());
+    for f in files {
+        println!("  {}", f.display());
+    }
+    Ok(())
+}
+
+fn synth(
+    config: &Path,
+    effects: &[String],
+    spec: &SynthSpec,
+    threads: Option<usize>,
+    out: &Path,
+) -> Result<(), String> {
+    let config = Config::load(config).map_err(|e| e.to_string())?;
+    let effects = effects
+        .iter()
+        .map(|e| parse_effect(e).map_err(|e| e.to_string()))
+        .collect::<Result<Vec<_>, _>>()?;
+    let threads = threads.unwrap_or_else(|| Settings::default().threads);
+    let progress = |line: &str| eprintln!("{line}");
+    let set = write_synth(&config, &effects, spec, threads, out, &progress)?;
+    println!(
+        "wrote {} ({} compression curve(s), {} sticking velocity)",
+        out.display(),
+        set.compression.len(),
+        set.sticking.len()
+    );
+    Ok(())
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -408,6 +521,41 @@ fn main() -> ExitCode {
             p_min,
         } => fit(curve, phi1, phi2, p_min),
         Command::Info { config, monomers } => info(config, monomers),
+        Command::Calibrate {
+            measured,
+            config,
+            out,
+            seeds,
+            rounds,
+            threads,
+        } => calibrate(&measured, &config, &out, seeds, rounds, threads),
+        Command::Synth {
+            config,
+            effect,
+            geometry,
+            no_sticking,
+            seeds,
+            p_min,
+            p_max,
+            points,
+            noise,
+            sticking_noise,
+            noise_seed,
+            out,
+            threads,
+        } => {
+            let spec = SynthSpec {
+                geometries: geometry,
+                sticking: !no_sticking,
+                seeds,
+                pressure_range: (p_min, p_max),
+                points,
+                phi_noise: noise,
+                sticking_noise,
+                noise_seed,
+            };
+            synth(&config, &effect, &spec, threads, &out)
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -126,6 +126,22 @@ pub struct EffectFit {
     pub at_range_end: bool,
 }
 
+impl EffectFit {
+    /// One line: name, factor with its interval, χ², explained share and confidence.
+    pub fn summary(&self) -> String {
+        format!(
+            "{:<24} factor {:>8.3} [{:.3}, {:.3}] chi2 {:>9.2} explained {:>5.1}% confidence {:.2}",
+            self.effect.name(),
+            self.factor,
+            self.interval.0,
+            self.interval.1,
+            self.chi2,
+            100.0 * self.explained,
+            self.confidence
+        )
+    }
+}
+
 /// Which effect explains the gap.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Decision {

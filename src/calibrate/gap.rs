@@ -108,6 +108,8 @@ pub enum Verdict {
     TooSoft,
     /// Simulation less dense at the same pressure (or sticking too fast).
     TooStiff,
+    /// Beyond noise, but too soft in one part and too stiff in another.
+    Mixed,
 }
 
 impl Verdict {
@@ -126,6 +128,7 @@ impl Verdict {
             Verdict::WithinNoise => "within noise",
             Verdict::TooSoft => "too soft (simulation denser)",
             Verdict::TooStiff => "too stiff (simulation less dense)",
+            Verdict::Mixed => "differs in shape (see the bands)",
         }
     }
 }
@@ -263,9 +266,18 @@ fn summarise(name: &str, residual: Vec<f64>, sigma: Vec<f64>, bands: Vec<Band>) 
             sq(&|k| sigma[k]),
         )
     };
+    // A curve is judged by its χ²; the sign comes from the mean residual when that is clear.
+    let verdict = if chi2 <= chi2_quantile_95(1) {
+        Verdict::WithinNoise
+    } else {
+        match Verdict::of(mean, mean_sigma) {
+            Verdict::WithinNoise => Verdict::Mixed,
+            v => v,
+        }
+    };
     CurveGap {
         name: name.to_string(),
-        verdict: Verdict::of(mean, mean_sigma),
+        verdict,
         residual,
         sigma,
         rms,

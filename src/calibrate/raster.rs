@@ -158,12 +158,10 @@ impl Frame {
         let xv = if self.x_log { x.log10() } else { x };
         let fx = (xv - self.x.0) / (self.x.1 - self.x.0);
         let fy = (y - self.y.0) / (self.y.1 - self.y.0);
-        (fx.is_finite() && fy.is_finite()).then(|| {
-            (
-                self.left + fx * (self.right - self.left),
-                self.bottom - fy * (self.bottom - self.top),
-            )
-        })
+        (fx.is_finite() && fy.is_finite()).then_some((
+            self.left + fx * (self.right - self.left),
+            self.bottom - fy * (self.bottom - self.top),
+        ))
     }
 }
 

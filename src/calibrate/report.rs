@@ -126,6 +126,7 @@ fn verdict_text(c: &CurveGap, sticking: bool) -> String {
         Verdict::WithinNoise => "within noise".into(),
         Verdict::TooSoft => "sticks only below the measured speed (too little loss)".into(),
         Verdict::TooStiff => "sticks above the measured speed (too much loss)".into(),
+        Verdict::Mixed => "differs".into(),
     }
 }
 

@@ -53,6 +53,9 @@ impl Run {
 pub struct Envelope {
     pub phi: Vec<f64>,
     pub log10_p: Vec<f64>,
+    /// Why the run ended early, if it failed (a run-time guard at high pressure): the envelope
+    /// then holds the rows before the failure.
+    pub failure: Option<String>,
 }
 
 impl Envelope {
@@ -75,6 +78,7 @@ impl Envelope {
         Envelope {
             phi: rows.iter().map(|r| r.0).collect(),
             log10_p,
+            failure: None,
         }
     }
 
@@ -101,10 +105,13 @@ pub enum Output {
     Sticking(f64),
 }
 
+/// One run's result, filled once by whichever thread asks first.
+type Slot = Arc<OnceLock<Result<Output, String>>>;
+
 /// Results of runs already made, shared by every calibration that holds the cache.
 #[derive(Default)]
 pub struct RunCache {
-    slots: Mutex<HashMap<String, Arc<OnceLock<Result<Output, String>>>>>,
+    slots: Mutex<HashMap<String, Slot>>,
 }
 
 impl RunCache {
@@ -201,17 +208,24 @@ fn simulate(run: &Run) -> Result<Output, String> {
         Run::Compression(config) => {
             let mut compression = Compression::new(config).map_err(|e| e.to_string())?;
             let mut rows = Vec::new();
-            compression
-                .run(&mut |event| {
-                    if let Event::Row(r) = event {
-                        if r.p_top.is_finite() {
-                            rows.push((r.phi, r.p_top));
-                        }
+            let result = compression.run(&mut |event| {
+                if let Event::Row(r) = event {
+                    if r.p_top.is_finite() {
+                        rows.push((r.phi, r.p_top));
                     }
-                    Ok(())
-                })
-                .map_err(|e| e.to_string())?;
-            Ok(Output::Envelope(Envelope::from_rows(&rows)))
+                }
+                Ok(())
+            });
+            // A guard firing deep in the compression (a monomer squeezed through a wall)
+            // keeps the curve measured until then; pressures not reached count as uncovered.
+            let failure = match result {
+                Ok(_) => None,
+                Err(e) if rows.len() > MEDIAN_ROWS => Some(e.to_string()),
+                Err(e) => return Err(e.to_string()),
+            };
+            let mut envelope = Envelope::from_rows(&rows);
+            envelope.failure = failure;
+            Ok(Output::Envelope(envelope))
         }
         Run::Sticking(config) => sticking_threshold_m_s(config).map(Output::Sticking),
     }

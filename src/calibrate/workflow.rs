@@ -24,6 +24,9 @@ pub struct Settings {
     pub candidates: usize,
     /// Refinement passes per round (one simulated point per candidate each).
     pub refinements: usize,
+    /// A refinement stops when the interpolated minimum is within this of a simulated factor
+    /// (in ln factor; 0.05 is 5%).
+    pub refine_tolerance: f64,
     pub effects: Vec<Effect>,
 }
 
@@ -35,14 +38,11 @@ impl Default for Settings {
             max_rounds: 2,
             candidates: 3,
             refinements: 3,
+            refine_tolerance: 0.05,
             effects: Effect::ALL.to_vec(),
         }
     }
 }
-
-/// A refinement stops when the interpolated minimum is within this of a simulated factor
-/// (in ln factor: 5%).
-const REFINE_TOLERANCE: f64 = 0.05;
 
 /// One pass of the loop.
 #[derive(Clone, Debug)]
@@ -140,6 +140,15 @@ impl Predictor<'_> {
             }
         });
         self.runs += flat.len();
+        let failed = outputs
+            .iter()
+            .filter(|o| matches!(o, Ok(Output::Envelope(e)) if e.failure.is_some()))
+            .count();
+        if failed > 0 {
+            (self.progress)(&format!(
+                "  {what}: {failed} compression(s) stopped by a run-time guard; their curves end there"
+            ));
+        }
         let targets = targets(self.measured);
         let mut outputs = outputs.into_iter();
         let mut all = Vec::new();
@@ -346,7 +355,7 @@ fn fit_grids(
             .iter()
             .filter_map(|&k| {
                 grids[k]
-                    .next_point(measured, REFINE_TOLERANCE)
+                    .next_point(measured, settings.refine_tolerance)
                     .map(|u| (grids[k].effect, u.exp()))
             })
             .collect();
@@ -387,16 +396,7 @@ fn add_points(
 
 fn report_fits(progress: &dyn Fn(&str), round: usize, fits: &[EffectFit], decision: &Decision) {
     for f in fits {
-        progress(&format!(
-            "round {round}: {:<24} factor {:>8.3} [{:.3}, {:.3}] chi2 {:>9.2} explained {:>5.1}% confidence {:.2}",
-            f.effect.name(),
-            f.factor,
-            f.interval.0,
-            f.interval.1,
-            f.chi2,
-            100.0 * f.explained,
-            f.confidence
-        ));
+        progress(&format!("round {round}: {}", f.summary()));
     }
     progress(&format!("round {round}: {}", describe_decision(decision)));
 }
