@@ -84,7 +84,7 @@ impl Canvas {
     /// Text with its top-left corner at (x, y); lower case is drawn as upper case.
     pub fn text(&mut self, x: i64, y: i64, s: &str, c: Rgb) {
         for (k, ch) in s.chars().enumerate() {
-            let rows = glyph(ch.to_ascii_uppercase());
+            let rows = glyph(fold(ch));
             let left = x + k as i64 * 4 * FONT_SCALE;
             for (r, bits) in rows.iter().enumerate() {
                 for col in 0..3 {
@@ -353,6 +353,18 @@ fn decimals(step: f64) -> usize {
     (-step.log10().floor()).clamp(0.0, 6.0) as usize
 }
 
+/// Upper case without accents ("Güttler" is drawn as GUTTLER): the font has no diacritics.
+fn fold(ch: char) -> char {
+    match ch.to_uppercase().next().unwrap_or(ch) {
+        'Ä' | 'Á' | 'À' | 'Â' => 'A',
+        'Ö' | 'Ó' | 'Ò' | 'Ô' => 'O',
+        'Ü' | 'Ú' | 'Ù' | 'Û' => 'U',
+        'É' | 'È' | 'Ê' | 'Ë' => 'E',
+        'ß' => 'S',
+        c => c,
+    }
+}
+
 /// 3×5 glyphs, one row per entry, bit 2 = left column.
 fn glyph(c: char) -> [u8; 5] {
     match c {
@@ -445,6 +457,8 @@ mod tests {
                 .count()
         };
         assert!(count(RED) > 200, "{}", count(RED));
+        assert_eq!(fold('ü'), 'U');
+        assert_eq!(glyph(fold('ä')), glyph('A'));
         let bytes = canvas.to_png().unwrap();
         let decoder = png::Decoder::new(bytes.as_slice());
         let reader = decoder.read_info().unwrap();
