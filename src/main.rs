@@ -89,9 +89,10 @@ enum Command {
     /// Compare a config with measured data and name the effect that explains the gap; writes
     /// report.md, calibration.png and corrected.toml.
     Calibrate {
-        /// Measured-data file (see configs/measured/).
-        #[arg(long)]
-        measured: PathBuf,
+        /// Measured-data file (see configs/measured/); repeat it to fit the curves of several
+        /// files jointly.
+        #[arg(long, required = true)]
+        measured: Vec<PathBuf>,
         /// Base config: material, model, sample size, wall speed, time step.
         #[arg(long)]
         config: PathBuf,
@@ -448,7 +449,7 @@ fn gpu_info(config: &Config, n: usize) {
 }
 
 fn calibrate(
-    measured: &Path,
+    measured: &[PathBuf],
     config: &Path,
     out: &Path,
     seeds: Vec<u64>,

@@ -99,7 +99,7 @@ fn run_calibration(name: &str, measured: &MeasuredSet, settings: &Settings) -> C
     }
     // The report, plot and corrected config are written for every case.
     let out = std::env::temp_dir().join(format!("dustdem-calibrate-{}-{name}", std::process::id()));
-    let files = write_outputs(&cal, &out, Path::new("data.toml"), Path::new("base.toml")).unwrap();
+    let files = write_outputs(&cal, &out, "data.toml", Path::new("base.toml")).unwrap();
     assert!(files.iter().all(|f| f.is_file()));
     cal
 }
@@ -347,8 +347,11 @@ fn synth_and_calibrate_from_the_command_line() {
     let sticking = dir.join("sticking.toml");
     std::fs::write(&sticking, m.to_toml()).unwrap();
     let report = dir.join("report");
+    // The same file twice: curves of several files are fitted jointly.
     let out = dustdem(&[
         "calibrate",
+        "--measured",
+        sticking.to_str().unwrap(),
         "--measured",
         sticking.to_str().unwrap(),
         "--config",

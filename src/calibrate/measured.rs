@@ -102,6 +102,32 @@ impl MeasuredSet {
     pub fn curve_count(&self) -> usize {
         self.compression.len() + self.sticking.len()
     }
+
+    /// Several data sets as one, to be fitted jointly; provenance entries are joined.
+    pub fn merge(sets: Vec<MeasuredSet>) -> MeasuredSet {
+        let join = |f: &dyn Fn(&Provenance) -> &str| {
+            sets.iter()
+                .map(|s| f(&s.source))
+                .filter(|t| !t.is_empty())
+                .collect::<Vec<_>>()
+                .join("; ")
+        };
+        let source = Provenance {
+            citation: join(&|p| &p.citation),
+            what: join(&|p| &p.what),
+            notes: join(&|p| &p.notes),
+        };
+        let mut merged = MeasuredSet {
+            source,
+            compression: Vec::new(),
+            sticking: Vec::new(),
+        };
+        for s in sets {
+            merged.compression.extend(s.compression);
+            merged.sticking.extend(s.sticking);
+        }
+        merged
+    }
 }
 
 // The file as written. Every value is optional here so that a missing one is reported with
@@ -484,6 +510,9 @@ sigma_m_s = 0.1
         // The written form reads back to the same set.
         let again = MeasuredSet::parse(&m.to_toml(), "again").unwrap();
         assert_eq!(again, m);
+        let both = MeasuredSet::merge(vec![m.clone(), again]);
+        assert_eq!(both.curve_count(), 4);
+        assert_eq!(both.source.citation, "test; test");
     }
 
     #[test]

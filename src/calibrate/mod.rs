@@ -25,20 +25,33 @@ pub use workflow::{calibrate, Calibration, Settings};
 use crate::config::{Config, ConfigError};
 use std::path::{Path, PathBuf};
 
-/// `dustdem calibrate`: loads both files, calibrates, writes the report into `out` and returns
-/// the summary lines and the files written.
+/// `dustdem calibrate`: loads the measured files (their curves are fitted jointly) and the
+/// config, calibrates, writes the report into `out` and returns the summary lines and the
+/// files written.
 pub fn run_calibration(
-    measured_path: &Path,
+    measured_paths: &[PathBuf],
     config_path: &Path,
     out: &Path,
     settings: &Settings,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<(Vec<String>, Vec<PathBuf>), String> {
-    let measured = MeasuredSet::load(measured_path).map_err(|e| e.to_string())?;
+    let sets = measured_paths
+        .iter()
+        .map(|p| MeasuredSet::load(p).map_err(|e| e.to_string()))
+        .collect::<Result<Vec<_>, _>>()?;
+    if sets.is_empty() {
+        return Err("calibrate needs at least one --measured file".into());
+    }
+    let measured = MeasuredSet::merge(sets);
+    let label = measured_paths
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect::<Vec<_>>()
+        .join(", ");
     let config = Config::load(config_path).map_err(|e| e.to_string())?;
     let cache = RunCache::new();
     let cal = calibrate(&measured, &config, settings, &cache, progress)?;
-    let files = report::write_outputs(&cal, out, measured_path, config_path)?;
+    let files = report::write_outputs(&cal, out, &label, config_path)?;
     let mut lines = Vec::new();
     for (k, round) in cal.rounds.iter().enumerate() {
         lines.push(format!(

@@ -25,7 +25,7 @@ pub fn gap_shrink(before: &Gap, after: &Gap) -> f64 {
 pub fn write_outputs(
     cal: &Calibration,
     out: &Path,
-    measured_path: &Path,
+    measured: &str,
     config_path: &Path,
 ) -> Result<Vec<PathBuf>, String> {
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
@@ -37,7 +37,7 @@ pub fn write_outputs(
     let mut files = Vec::new();
     files.push(write(
         CORRECTED_FILE,
-        corrected_config(cal, measured_path, config_path).as_bytes(),
+        corrected_config(cal, measured, config_path).as_bytes(),
     )?);
     let png = plot_png(cal)
         .to_png()
@@ -48,17 +48,17 @@ pub fn write_outputs(
     }
     files.push(write(
         REPORT_FILE,
-        markdown(cal, measured_path, config_path).as_bytes(),
+        markdown(cal, measured, config_path).as_bytes(),
     )?);
     Ok(files)
 }
 
 /// The base config with the named effects applied, headed by what was changed and why.
-pub fn corrected_config(cal: &Calibration, measured_path: &Path, config_path: &Path) -> String {
+pub fn corrected_config(cal: &Calibration, measured: &str, config_path: &Path) -> String {
     let mut s = format!(
         "# Calibrated from {} against {}.\n",
         config_path.display(),
-        measured_path.display()
+        measured
     );
     if cal.applied.is_empty() {
         s.push_str("# No effect was applied: this is the base config.\n");
@@ -150,11 +150,11 @@ fn where_table(s: &mut String, gap: &Gap) {
 }
 
 /// The Markdown report.
-pub fn markdown(cal: &Calibration, measured_path: &Path, config_path: &Path) -> String {
+pub fn markdown(cal: &Calibration, measured: &str, config_path: &Path) -> String {
     let m = &cal.measured;
     let c = &cal.base;
     let mut s = String::from("# Calibration report\n\n");
-    let _ = writeln!(s, "- measured data: `{}`", measured_path.display());
+    let _ = writeln!(s, "- measured data: `{measured}`");
     let _ = writeln!(s, "  - source: {}", m.source.citation);
     if !m.source.what.is_empty() {
         let _ = writeln!(s, "  - what: {}", m.source.what);
