@@ -383,3 +383,29 @@ fn synth_and_calibrate_from_the_command_line() {
         "{md}"
     );
 }
+
+#[test]
+fn literature_files_load_and_match_physics_md() {
+    // The Eq. 13 fits sampled by the loader reproduce the tabulated values at both ends.
+    for (file, lo, hi) in [
+        ("configs/measured/guettler2009_omni.toml", 0.1581, 0.5626),
+        (
+            "configs/measured/blum_schraepler2004_uni.toml",
+            0.1509,
+            0.3298,
+        ),
+    ] {
+        let m = MeasuredSet::load(&repo(file)).unwrap();
+        let c = &m.compression[0];
+        let (p_lo, p_hi) = c.pressure_range();
+        assert!((p_lo / 1e2 - 1.0).abs() < 1e-12 && (p_hi / 1e6 - 1.0).abs() < 1e-12);
+        let n = c.phi.len();
+        assert!(
+            (c.phi[0] - lo).abs() < 1e-4 && (c.phi[n - 1] - hi).abs() < 1e-4,
+            "{file}"
+        );
+        assert!(!m.source.citation.is_empty() && !m.source.what.is_empty());
+    }
+    let poppe = MeasuredSet::load(&repo("configs/measured/poppe2000_sticking.toml")).unwrap();
+    assert_eq!(poppe.sticking[0].velocity, 1.2);
+}
