@@ -34,7 +34,7 @@ fn gpu_error(positions: Vec<DVec3>, pair_slots: usize) -> Option<GpuError> {
         pair_slots,
         3,
     );
-    Some(result.err().expect("the overflow must stop the engine"))
+    Some(result.expect_err("the overflow must stop the engine"))
 }
 
 #[test]
