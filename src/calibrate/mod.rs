@@ -70,11 +70,13 @@ pub fn run_calibration(
     }
     let (before, after) = (cal.baseline_gap(), cal.final_gap());
     lines.push(format!(
-        "chi2 {:.2} -> {:.2} (noise threshold {:.2}); normalised gap shrank by {:.0}%",
+        "chi2 {:.2} -> {:.2} (noise threshold {:.2}); normalised gap shrank by {:.0}%; RMS gap \
+         of the curves beyond noise shrank by: {}",
         before.chi2,
         after.chi2,
         after.threshold,
-        100.0 * report::gap_shrink(before, &after)
+        100.0 * report::gap_shrink(before, &after),
+        report::describe_curve_shrinks(before, &after)
     ));
     Ok((lines, files))
 }
