@@ -29,9 +29,13 @@ fn rows<E: Engine>(mut run: Compression<E>) -> Vec<Row> {
     rows
 }
 
-fn both(text: &str) -> Option<(Vec<Row>, Vec<Row>, FloatMode)> {
+/// Both backends, the GPU in `mode` (default: the device's own).
+fn both_in(mode: Option<FloatMode>, text: &str) -> Option<(Vec<Row>, Vec<Row>, FloatMode)> {
     let config = Config::parse(text, "test").unwrap();
-    let ctx = context_for_tests()?;
+    let mut ctx = context_for_tests()?;
+    if let Some(mode) = mode {
+        ctx.float_mode = mode;
+    }
     let mode = ctx.float_mode;
     let cpu = rows(Compression::new(&config).unwrap());
     let gpu = rows(
@@ -62,44 +66,87 @@ fn pressure_difference(cpu: &[Row], gpu: &[Row]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// φ where the top pressure first reaches each decade 10^k Pa the run passes (k from 1 up).
+fn phi_at_decades(rows: &[Row]) -> Vec<(i32, f64)> {
+    let mut out: Vec<(i32, f64)> = Vec::new();
+    for r in rows.iter().filter(|r| r.p_top.is_finite() && r.p_top > 0.0) {
+        let k = r.p_top.log10().floor() as i32;
+        let next = out.last().map_or(1, |&(d, _)| d + 1);
+        for d in next.max(1)..=k {
+            out.push((d, r.phi));
+        }
+    }
+    out
+}
+
+const ONE_M_PER_S: &str = "[sample]\nmonomers = 1000\nseed = 4\n[experiment]\n\
+    kind = \"omni\"\nwall_speed_m_s = 1.0\nphi_stop = 0.4\naverage_steps = 200\n\
+    [integration]\ndt_ns = 0.6\n";
+
 #[test]
-fn a_1_m_per_s_omni_compression_gives_the_same_curve() {
-    let Some((cpu, gpu, mode)) = both(
-        "[sample]\nmonomers = 300\nseed = 4\n[experiment]\nkind = \"omni\"\n\
-         wall_speed_m_s = 1.0\nphi_stop = 0.3\naverage_steps = 200\n",
-    ) else {
+fn a_1_m_per_s_omni_compression_of_1000_monomers_gives_the_same_curve() {
+    compare_1_m_per_s(None);
+}
+
+/// The same comparison in the relaxed float mode (plain WGSL, as on adapters without SPIR-V
+/// passthrough), where the two trajectories diverge and only the statistical bound can hold.
+/// Not part of the default run (about three minutes on lavapipe):
+/// `cargo test --release --test gpu_compression -- --ignored`.
+#[test]
+#[ignore]
+fn relaxed_mode_1_m_per_s_compression_of_1000_monomers_gives_the_same_curve() {
+    compare_1_m_per_s(Some(FloatMode::Relaxed));
+}
+
+fn compare_1_m_per_s(mode: Option<FloatMode>) {
+    let Some((cpu, gpu, mode)) = both_in(mode, ONE_M_PER_S) else {
         return;
     };
-    assert_eq!(cpu.len(), gpu.len());
     let dp = pressure_difference(&cpu, &gpu);
-    let dphi = cpu
-        .iter()
-        .zip(&gpu)
-        .map(|(a, b)| (a.phi - b.phi).abs())
-        .fold(0.0, f64::max);
+    let (dc, dg) = (phi_at_decades(&cpu), phi_at_decades(&gpu));
+    for ((k, a), (_, b)) in dc.iter().zip(&dg) {
+        eprintln!(
+            "{mode:?}: P = 1e{k} Pa: phi cpu {a:.5} gpu {b:.5} (diff {:.1e})",
+            b - a
+        );
+    }
     eprintln!(
-        "{mode:?}: {} rows to φ = {:.3}, P_top up to {:.3e} Pa; max |Δφ| {dphi:e}, max |ΔP|/P {dp:e}",
+        "{mode:?}: {} rows to φ = {:.3}, P_top up to {:.3e} Pa; max |ΔP|/P {dp:e}",
         cpu.len(),
         cpu.last().unwrap().phi,
         cpu.iter().map(|r| r.p_top).fold(0.0, f64::max)
     );
-    match mode {
-        FloatMode::Exact => {
-            assert_eq!(dphi, 0.0);
-            assert!(dp <= 1e-9, "{dp:e}");
-            for (a, b) in cpu.iter().zip(&gpu) {
-                assert_eq!((a.contacts, a.wall_contacts), (b.contacts, b.wall_contacts));
-            }
+    assert!(dc.len() >= 3, "the run passes at least three decades of P");
+    assert_eq!(dc.len(), dg.len(), "both runs pass the same decades");
+    for ((k, a), (_, b)) in dc.iter().zip(&dg) {
+        assert!((a - b).abs() <= 0.01, "P = 1e{k} Pa: phi {a} vs {b}");
+    }
+    if mode == FloatMode::Exact {
+        // Bit-identical trajectories: equal rows, pressures up to the wall-force summation order.
+        assert_eq!(cpu.len(), gpu.len());
+        assert!(dp <= 1e-9, "{dp:e}");
+        for (a, b) in cpu.iter().zip(&gpu) {
+            assert_eq!(a.phi, b.phi);
+            assert_eq!((a.contacts, a.wall_contacts), (b.contacts, b.wall_contacts));
         }
-        FloatMode::Relaxed => assert!(dphi <= 0.01),
     }
 }
 
 #[test]
 fn a_1_cm_per_s_segment_gives_the_same_mean_wall_force() {
+    compare_1_cm_per_s(None);
+}
+
+#[test]
+fn a_1_cm_per_s_segment_gives_the_same_mean_wall_force_in_the_relaxed_mode() {
+    compare_1_cm_per_s(Some(FloatMode::Relaxed));
+}
+
+fn compare_1_cm_per_s(mode: Option<FloatMode>) {
     // 6700 steps of 0.3 ns at 1 cm/s: 20 nm of wall travel.
-    let Some((cpu, gpu, mode)) = both(
-        "[sample]\nmonomers = 300\nseed = 4\n[experiment]\nkind = \"omni\"\n\
+    let Some((cpu, gpu, mode)) = both_in(
+        mode,
+        "[sample]\nmonomers = 1000\nseed = 4\n[experiment]\nkind = \"omni\"\n\
          wall_speed_m_s = 0.01\nmax_steps = 6700\naverage_steps = 6700\n",
     ) else {
         return;
