@@ -49,11 +49,11 @@ fn contacts(@builtin(global_invocation_id) id: vec3<u32>) {
         let j = pair_partner[idx];
         let delta = 2.0lf * r - vec_length(x - position[j].xyz);
         if delta < -params.pair.delta_c {
-            let a = pair_n1[idx];
-            add_tally(i, TALLY_BREAKING, pair_step_energy(i, j, a.xyz, pair_n2[idx].xyz, a.w));
+            let a = load_pair_n1(idx);
+            add_tally(i, TALLY_BREAKING, pair_step_energy(i, j, a.xyz, load_pair_n2(idx).xyz, a.w));
             let last = base + count - 1u;
-            pair_n1[idx] = pair_n1[last];
-            pair_n2[idx] = pair_n2[last];
+            store_pair_n1(idx, load_pair_n1(last));
+            store_pair_n2(idx, load_pair_n2(last));
             pair_partner[idx] = pair_partner[last];
             count -= 1u;
         } else {
@@ -98,8 +98,8 @@ fn contacts(@builtin(global_invocation_id) id: vec3<u32>) {
         let n2 = nc;
         add_tally(i, TALLY_FORMING, -pair_step_energy(i, j, n1, n2, 0.0lf));
         let idx = base + count;
-        pair_n1[idx] = vec4<f64>(n1, 0.0lf);
-        pair_n2[idx] = vec4<f64>(n2, 0.0lf);
+        store_pair_n1(idx, vec4<f64>(n1, 0.0lf));
+        store_pair_n2(idx, vec4<f64>(n2, 0.0lf));
         pair_partner[idx] = j;
         count += 1u;
     }

@@ -24,9 +24,10 @@ fn forces(@builtin(global_invocation_id) id: vec3<u32>) {
         let idx = i * params.pair_slots + slot;
         let j = pair_partner[idx];
         let x2 = position[j].xyz;
-        var n1 = pair_n1[idx].xyz;
-        var n2 = pair_n2[idx].xyz;
-        var twist = pair_n1[idx].w;
+        let stored_n1 = load_pair_n1(idx);
+        var n1 = stored_n1.xyz;
+        var n2 = load_pair_n2(idx).xyz;
+        var twist = stored_n1.w;
 
         // apply_inelastic_limits: rolling, sliding, twisting.
         let nc = vec_normalize(x1 - x2);
@@ -50,14 +51,11 @@ fn forces(@builtin(global_invocation_id) id: vec3<u32>) {
             twist = twisted.twist;
             add_tally(i, TALLY_TWISTING, before - pair_step_energy(i, j, n1, n2, twist));
         }
-        pair_n1[idx] = vec4<f64>(n1, twist);
-        pair_n2[idx] = vec4<f64>(n2, 0.0lf);
+        store_pair_n1(idx, vec4<f64>(n1, twist));
+        store_pair_n2(idx, vec4<f64>(n2, 0.0lf));
 
         let it = pair_interaction(x1, x2, v1, velocity[j].xyz, n1, n2, twist);
-        pair_force[2u * idx] = vec4<f64>(it.f, 0.0lf);
-        pair_force[2u * idx + 1u] = vec4<f64>(it.fd, 0.0lf);
-        pair_torque[2u * idx] = vec4<f64>(it.m1, 0.0lf);
-        pair_torque[2u * idx + 1u] = vec4<f64>(it.m2, 0.0lf);
+        store_pair_result(idx, PairResult(it.f, it.fd, it.m1, it.m2));
         let at = atomicAdd(&incoming_count[j], 1u);
         if at < INCOMING_CAPACITY {
             incoming[j * INCOMING_CAPACITY + at] = idx;

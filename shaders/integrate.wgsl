@@ -37,14 +37,14 @@ fn integrate(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var slot = 0u; slot < pair_count[i]; slot++) {
         let idx = i * params.pair_slots + slot;
         let j = pair_partner[idx];
-        let a = pair_n1[idx];
-        let b = pair_n2[idx];
+        let a = load_pair_n1(idx);
+        let b = load_pair_n2(idx);
         let wj = angular_velocity[j].xyz;
         // Contact normal at mid-step, x(n+½) = x(n) + v(n+½) dt/2.
         let nc_mid = vec_normalize((xi - position[j].xyz) + (vi - velocity[j].xyz) * (0.5lf * dt));
         let twist = a.w + twist_increment(wi - wj, nc_mid, dt);
-        pair_n1[idx] = vec4<f64>(rotate_pointer(a.xyz, turn_i), twist);
-        pair_n2[idx] = vec4<f64>(rotate_pointer(b.xyz, wj * dt), 0.0lf);
+        store_pair_n1(idx, vec4<f64>(rotate_pointer(a.xyz, turn_i), twist));
+        store_pair_n2(idx, vec4<f64>(rotate_pointer(b.xyz, wj * dt), 0.0lf));
     }
     for (var slot = 0u; slot < wall_count[i]; slot++) {
         let idx = i * params.wall_slots + slot;

@@ -38,15 +38,17 @@ fn wall_forces(@builtin(global_invocation_id) id: vec3<u32>) {
     var m = vec3<f64>(0.0lf);
     for (var a = 0u; a < arrived; a++) {
         let idx = list[a];
-        f = f - pair_force[2u * idx].xyz;
-        fd = fd - pair_force[2u * idx + 1u].xyz;
-        m = m + pair_torque[2u * idx + 1u].xyz;
+        let r = load_pair_result(idx);
+        f = f - r.f;
+        fd = fd - r.fd;
+        m = m + r.m2;
     }
     for (var slot = 0u; slot < pair_count[i]; slot++) {
         let idx = i * params.pair_slots + slot;
-        f = f + pair_force[2u * idx].xyz;
-        fd = fd + pair_force[2u * idx + 1u].xyz;
-        m = m + pair_torque[2u * idx].xyz;
+        let r = load_pair_result(idx);
+        f = f + r.f;
+        fd = fd + r.fd;
+        m = m + r.m1;
     }
 
     // Wall contacts.

@@ -33,7 +33,8 @@ struct Params {
     bucket_capacity: u32,
     // Damping::kind of shared/damping.wgsl.
     damping_kind: u32,
-    _pad: u32,
+    // Elements in each binding of a per-slot vector array (see load_pair_n1).
+    slot_chunk: u32,
     dt: f64,
     radius: f64,
     inverse_mass: f64,
@@ -62,6 +63,8 @@ const INCOMING_CAPACITY: u32 = 16u;
 const REDUCE_BLOCK: u32 = 64u;
 // Invocations of reduce_diagnostics (one workgroup): strided partial sums, added in order.
 const DIAG_THREADS: u32 = 64u;
+// Bindings each per-slot vector array is split into (see load_pair_n1).
+const SLOT_CHUNKS: u32 = 3u;
 // Candidate partners j > i one monomer's list holds (within 2r + skin: about 12 at φ = 0.74).
 const NEIGHBOUR_CAPACITY: u32 = 24u;
 
@@ -109,39 +112,153 @@ const DIAG_SIZE: u32 = 80u;
 // damping part, of the monomer's wall contacts at the current step (trapezoid bookkeeping).
 @group(0) @binding(8) var<storage, read_write> aux: array<vec4<f64>>;
 @group(0) @binding(9) var<storage, read_write> tally: array<f64>;
-// Pair slots, `pair_slots` per owner: pointer of the owner (w: twist integral), pointer of the
-// partner, partner index; the count per owner.
-@group(0) @binding(10) var<storage, read_write> pair_n1: array<vec4<f64>>;
-@group(0) @binding(11) var<storage, read_write> pair_n2: array<vec4<f64>>;
-@group(0) @binding(12) var<storage, read_write> pair_partner: array<u32>;
-@group(0) @binding(13) var<storage, read_write> pair_count: array<u32>;
-// Per-contact results of the forces pass, two vectors per slot: (force on the owner, its
-// damping part) and (torque on the owner, torque on the partner).
-@group(0) @binding(14) var<storage, read_write> pair_force: array<vec4<f64>>;
-@group(0) @binding(15) var<storage, read_write> pair_torque: array<vec4<f64>>;
+// Pair slots, `pair_slots` per owner (slot index owner · pair_slots + slot): pointer of the
+// owner (w: twist integral), pointer of the partner, partner index; the count per owner.
+// Per-slot vectors are split into SLOT_CHUNKS bindings of params.slot_chunk elements, so that
+// no binding outgrows the device's limit (lavapipe: 128 MiB, 4.2 million vectors); only the
+// load_/store_ functions below index them.
+@group(0) @binding(10) var<storage, read_write> pair_n1_0: array<vec4<f64>>;
+@group(0) @binding(11) var<storage, read_write> pair_n1_1: array<vec4<f64>>;
+@group(0) @binding(12) var<storage, read_write> pair_n1_2: array<vec4<f64>>;
+@group(0) @binding(13) var<storage, read_write> pair_n2_0: array<vec4<f64>>;
+@group(0) @binding(14) var<storage, read_write> pair_n2_1: array<vec4<f64>>;
+@group(0) @binding(15) var<storage, read_write> pair_n2_2: array<vec4<f64>>;
+@group(0) @binding(16) var<storage, read_write> pair_partner: array<u32>;
+@group(0) @binding(17) var<storage, read_write> pair_count: array<u32>;
+// Per-contact results of the forces pass (force on the owner f, its damping part fd, torque
+// on the owner m1, torque on the partner m2: twelve numbers) packed into three vectors per
+// slot: a = (f, fd.x), b = (fd.yz, m1.xy), c = (m1.z, m2).
+@group(0) @binding(18) var<storage, read_write> pair_result_a_0: array<vec4<f64>>;
+@group(0) @binding(19) var<storage, read_write> pair_result_a_1: array<vec4<f64>>;
+@group(0) @binding(20) var<storage, read_write> pair_result_a_2: array<vec4<f64>>;
+@group(0) @binding(21) var<storage, read_write> pair_result_b_0: array<vec4<f64>>;
+@group(0) @binding(22) var<storage, read_write> pair_result_b_1: array<vec4<f64>>;
+@group(0) @binding(23) var<storage, read_write> pair_result_b_2: array<vec4<f64>>;
+@group(0) @binding(24) var<storage, read_write> pair_result_c_0: array<vec4<f64>>;
+@group(0) @binding(25) var<storage, read_write> pair_result_c_1: array<vec4<f64>>;
+@group(0) @binding(26) var<storage, read_write> pair_result_c_2: array<vec4<f64>>;
 // Wall slots, `wall_slots` per monomer: pointer (w: twist), anchor, wall index; the count.
-@group(0) @binding(16) var<storage, read_write> wall_n1: array<vec4<f64>>;
-@group(0) @binding(17) var<storage, read_write> wall_anchor: array<vec4<f64>>;
-@group(0) @binding(18) var<storage, read_write> wall_id: array<u32>;
-@group(0) @binding(19) var<storage, read_write> wall_count: array<u32>;
+@group(0) @binding(27) var<storage, read_write> wall_n1: array<vec4<f64>>;
+@group(0) @binding(28) var<storage, read_write> wall_anchor: array<vec4<f64>>;
+@group(0) @binding(29) var<storage, read_write> wall_id: array<u32>;
+@group(0) @binding(30) var<storage, read_write> wall_count: array<u32>;
 // Force of each wall contact on its monomer, for the per-wall reduction.
-@group(0) @binding(20) var<storage, read_write> wall_force: array<vec4<f64>>;
+@group(0) @binding(31) var<storage, read_write> wall_force: array<vec4<f64>>;
 // Pair slots (owner · pair_slots + slot) whose partner is this monomer, INCOMING_CAPACITY per
 // monomer, in arrival order; sorted before they are summed.
-@group(0) @binding(21) var<storage, read_write> incoming: array<u32>;
-@group(0) @binding(22) var<storage, read_write> incoming_count: array<atomic<u32>>;
+@group(0) @binding(32) var<storage, read_write> incoming: array<u32>;
+@group(0) @binding(33) var<storage, read_write> incoming_count: array<atomic<u32>>;
 // Cell hash table: ids per bucket and their count.
-@group(0) @binding(23) var<storage, read_write> bucket_count: array<atomic<u32>>;
-@group(0) @binding(24) var<storage, read_write> bucket_items: array<u32>;
+@group(0) @binding(34) var<storage, read_write> bucket_count: array<atomic<u32>>;
+@group(0) @binding(35) var<storage, read_write> bucket_items: array<u32>;
 // Per-block partial wall forces, MAX_WALLS per block of REDUCE_BLOCK monomers.
-@group(0) @binding(25) var<storage, read_write> partials: array<vec4<f64>>;
-@group(0) @binding(26) var<storage, read_write> flags: array<atomic<u32>>;
-@group(0) @binding(27) var<storage, read_write> diag: array<f64>;
+@group(0) @binding(36) var<storage, read_write> partials: array<vec4<f64>>;
+@group(0) @binding(37) var<storage, read_write> flags: array<atomic<u32>>;
+@group(0) @binding(38) var<storage, read_write> diag: array<f64>;
 // Candidate lists (Verlet lists): partners j > i within 2r + skin, ascending,
 // NEIGHBOUR_CAPACITY per monomer; their lengths; positions when they were built.
-@group(0) @binding(28) var<storage, read_write> neighbour_list: array<u32>;
-@group(0) @binding(29) var<storage, read_write> neighbour_count: array<u32>;
-@group(0) @binding(30) var<storage, read_write> reference_position: array<vec4<f64>>;
+@group(0) @binding(39) var<storage, read_write> neighbour_list: array<u32>;
+@group(0) @binding(40) var<storage, read_write> neighbour_count: array<u32>;
+@group(0) @binding(41) var<storage, read_write> reference_position: array<vec4<f64>>;
+
+// Which binding of a per-slot array holds slot index `idx`, and where: (chunk, element).
+fn slot_chunk_of(idx: u32) -> vec2<u32> {
+    let c = min(idx / params.slot_chunk, SLOT_CHUNKS - 1u);
+    return vec2<u32>(c, idx - c * params.slot_chunk);
+}
+
+fn load_pair_n1(idx: u32) -> vec4<f64> {
+    let at = slot_chunk_of(idx);
+    if at.x == 0u {
+        return pair_n1_0[at.y];
+    }
+    if at.x == 1u {
+        return pair_n1_1[at.y];
+    }
+    return pair_n1_2[at.y];
+}
+
+fn store_pair_n1(idx: u32, value: vec4<f64>) {
+    let at = slot_chunk_of(idx);
+    if at.x == 0u {
+        pair_n1_0[at.y] = value;
+    } else if at.x == 1u {
+        pair_n1_1[at.y] = value;
+    } else {
+        pair_n1_2[at.y] = value;
+    }
+}
+
+fn load_pair_n2(idx: u32) -> vec4<f64> {
+    let at = slot_chunk_of(idx);
+    if at.x == 0u {
+        return pair_n2_0[at.y];
+    }
+    if at.x == 1u {
+        return pair_n2_1[at.y];
+    }
+    return pair_n2_2[at.y];
+}
+
+fn store_pair_n2(idx: u32, value: vec4<f64>) {
+    let at = slot_chunk_of(idx);
+    if at.x == 0u {
+        pair_n2_0[at.y] = value;
+    } else if at.x == 1u {
+        pair_n2_1[at.y] = value;
+    } else {
+        pair_n2_2[at.y] = value;
+    }
+}
+
+// What the forces pass found for one pair contact (all on the owner's side but m2).
+struct PairResult {
+    f: vec3<f64>,
+    fd: vec3<f64>,
+    m1: vec3<f64>,
+    m2: vec3<f64>,
+}
+
+fn store_pair_result(idx: u32, r: PairResult) {
+    let a = vec4<f64>(r.f, r.fd.x);
+    let b = vec4<f64>(r.fd.yz, r.m1.xy);
+    let c = vec4<f64>(r.m1.z, r.m2);
+    let at = slot_chunk_of(idx);
+    if at.x == 0u {
+        pair_result_a_0[at.y] = a;
+        pair_result_b_0[at.y] = b;
+        pair_result_c_0[at.y] = c;
+    } else if at.x == 1u {
+        pair_result_a_1[at.y] = a;
+        pair_result_b_1[at.y] = b;
+        pair_result_c_1[at.y] = c;
+    } else {
+        pair_result_a_2[at.y] = a;
+        pair_result_b_2[at.y] = b;
+        pair_result_c_2[at.y] = c;
+    }
+}
+
+fn load_pair_result(idx: u32) -> PairResult {
+    let at = slot_chunk_of(idx);
+    var a: vec4<f64>;
+    var b: vec4<f64>;
+    var c: vec4<f64>;
+    if at.x == 0u {
+        a = pair_result_a_0[at.y];
+        b = pair_result_b_0[at.y];
+        c = pair_result_c_0[at.y];
+    } else if at.x == 1u {
+        a = pair_result_a_1[at.y];
+        b = pair_result_b_1[at.y];
+        c = pair_result_c_1[at.y];
+    } else {
+        a = pair_result_a_2[at.y];
+        b = pair_result_b_2[at.y];
+        c = pair_result_c_2[at.y];
+    }
+    return PairResult(a.xyz, vec3<f64>(a.w, b.x, b.y), vec3<f64>(b.zw, c.x), c.yzw);
+}
 
 fn wall_at(w: u32) -> Wall {
     return walls[w];

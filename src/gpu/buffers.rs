@@ -6,15 +6,16 @@
 
 use super::layout::{
     GpuParams, GpuWall, DIAG_SIZE, FLAG_COUNT, INCOMING_CAPACITY, MAX_WALLS, NEIGHBOUR_CAPACITY,
-    REDUCE_BLOCK, TALLY_STRIDE,
+    REDUCE_BLOCK, SLOT_CHUNKS, TALLY_STRIDE,
 };
 use std::fmt;
 
 /// Bytes of one vec4<f64>.
 const VEC4: u64 = 32;
 
-/// Binding names in binding order (index = binding number of bindings.wgsl).
-pub const BINDINGS: [&str; 31] = [
+/// Binding names in binding order (index = binding number of bindings.wgsl). A per-slot
+/// vector array is [`SLOT_CHUNKS`] bindings, `<array>_0` … `<array>_2`.
+pub const BINDINGS: [&str; 42] = [
     "params",
     "walls",
     "position",
@@ -25,12 +26,23 @@ pub const BINDINGS: [&str; 31] = [
     "damping_force",
     "aux",
     "tally",
-    "pair_n1",
-    "pair_n2",
+    "pair_n1_0",
+    "pair_n1_1",
+    "pair_n1_2",
+    "pair_n2_0",
+    "pair_n2_1",
+    "pair_n2_2",
     "pair_partner",
     "pair_count",
-    "pair_force",
-    "pair_torque",
+    "pair_result_a_0",
+    "pair_result_a_1",
+    "pair_result_a_2",
+    "pair_result_b_0",
+    "pair_result_b_1",
+    "pair_result_b_2",
+    "pair_result_c_0",
+    "pair_result_c_1",
+    "pair_result_c_2",
     "wall_n1",
     "wall_anchor",
     "wall_id",
@@ -47,6 +59,22 @@ pub const BINDINGS: [&str; 31] = [
     "neighbour_count",
     "reference_position",
 ];
+
+/// The per-slot vector arrays, each split over [`SLOT_CHUNKS`] bindings.
+pub const SLOT_ARRAYS: [&str; 5] = [
+    "pair_n1",
+    "pair_n2",
+    "pair_result_a",
+    "pair_result_b",
+    "pair_result_c",
+];
+
+/// The most bindings one pass uses (each pass binds only what its entry point reads or
+/// writes; `kernels::tests` derives this from the shaders with naga).
+pub const MAX_BINDINGS_PER_PASS: u32 = 27;
+
+// lavapipe binds 32 storage buffers per stage, the least of the Vulkan adapters with f64.
+const _: () = assert!(MAX_BINDINGS_PER_PASS <= 32);
 
 /// Sizes of the engine's arrays for one problem.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -77,11 +105,20 @@ impl Sizes {
         }
     }
 
+    /// Vectors in each binding of a per-slot array: the N · pair_slots slots spread evenly
+    /// over [`SLOT_CHUNKS`] bindings (at least one, since no binding may be empty).
+    pub fn slot_chunk(&self) -> usize {
+        (self.monomers * self.pair_slots)
+            .div_ceil(SLOT_CHUNKS)
+            .max(1)
+    }
+
     /// Bytes of every binding, in binding order.
-    pub fn binding_bytes(&self) -> [u64; 31] {
+    pub fn binding_bytes(&self) -> [u64; 42] {
         let n = self.monomers as u64;
-        let ps = self.pair_slots as u64;
         let ws = self.wall_slots as u64;
+        let ps = self.pair_slots as u64;
+        let chunk = self.slot_chunk() as u64 * VEC4;
         let blocks = self.monomers.div_ceil(REDUCE_BLOCK) as u64;
         [
             std::mem::size_of::<GpuParams>() as u64,
@@ -94,12 +131,23 @@ impl Sizes {
             n * VEC4,
             n * VEC4,
             n * TALLY_STRIDE as u64 * 8,
-            n * ps * VEC4,
-            n * ps * VEC4,
+            chunk,
+            chunk,
+            chunk,
+            chunk,
+            chunk,
+            chunk,
             n * ps * 4,
             n * 4,
-            n * ps * 2 * VEC4,
-            n * ps * 2 * VEC4,
+            chunk,
+            chunk,
+            chunk,
+            chunk,
+            chunk,
+            chunk,
+            chunk,
+            chunk,
+            chunk,
             n * ws * VEC4,
             n * ws * VEC4,
             n * ws * 4,
@@ -128,15 +176,16 @@ impl Sizes {
         self.total_bytes() as f64 / self.monomers.max(1) as f64
     }
 
-    /// The largest binding and its name.
+    /// The largest binding and its name (the first in binding order among equals).
     pub fn largest_binding(&self) -> (&'static str, u64) {
         let bytes = self.binding_bytes();
-        let (i, b) = bytes
-            .iter()
-            .enumerate()
-            .max_by_key(|(_, b)| **b)
-            .expect("31 bindings");
-        (BINDINGS[i], *b)
+        let mut largest = 0;
+        for (i, b) in bytes.iter().enumerate() {
+            if *b > bytes[largest] {
+                largest = i;
+            }
+        }
+        (BINDINGS[largest], bytes[largest])
     }
 
     /// Checks the problem against the device's limits.
@@ -161,9 +210,9 @@ impl Sizes {
                 monomers: self.monomers,
             });
         }
-        if (BINDINGS.len() as u32) > limits.max_storage_buffers_per_shader_stage {
+        if MAX_BINDINGS_PER_PASS > limits.max_storage_buffers_per_shader_stage {
             return Err(SizeError::StorageBuffers {
-                needed: BINDINGS.len() as u32,
+                needed: MAX_BINDINGS_PER_PASS,
                 limit: limits.max_storage_buffers_per_shader_stage,
             });
         }
@@ -305,12 +354,12 @@ mod tests {
 
     #[test]
     fn a_problem_too_large_for_a_binding_names_it_and_what_to_lower() {
-        let sizes = Sizes::new(1_000_000, 6, 12, 3);
+        let sizes = Sizes::new(1_000_000, 6, 40, 3);
         let error = sizes.check(&lavapipe()).unwrap_err();
-        assert_eq!(sizes.largest_binding().0, "pair_torque");
+        assert_eq!(sizes.largest_binding().0, "pair_n1_0");
         let text = error.to_string();
         assert!(
-            text.contains("1000000 monomers need 768000000 B in the `pair_torque` binding")
+            text.contains("1000000 monomers need 426666688 B in the `pair_n1_0` binding")
                 && text.contains("134217728 B per storage binding")
                 && text.contains("pair_slots"),
             "{text}"
@@ -318,17 +367,19 @@ mod tests {
     }
 
     #[test]
-    fn the_largest_problem_that_fits_fills_the_largest_binding() {
-        // pair_force and pair_torque: 2 vec4<f64> per pair slot, 12 × 64 = 768 B per monomer.
-        let limit = (128usize << 20) / (12 * 2 * VEC4 as usize);
-        assert_eq!(limit, 174_762);
-        assert!(Sizes::new(limit, 6, 12, 3).check(&lavapipe()).is_ok());
-        assert!(Sizes::new(limit + 1, 6, 12, 3).check(&lavapipe()).is_err());
-        // Fewer slots, more monomers.
-        assert!(Sizes::new(2 * limit, 6, 6, 3).check(&lavapipe()).is_ok());
-        assert!(
-            BINDINGS.len() <= 32,
-            "lavapipe binds 32 storage buffers per stage"
-        );
+    fn a_million_monomers_fit_lavapipe_with_twelve_pair_slots() {
+        // 12 · 10⁶ slots in three chunks of 4 · 10⁶ vectors: 128 000 000 B per binding; the
+        // cell table (2²¹ buckets of 16 ids) fills its binding exactly.
+        let sizes = Sizes::new(1_000_000, 6, 12, 3);
+        assert!(sizes.check(&lavapipe()).is_ok());
+        assert_eq!(sizes.slot_chunk(), 4_000_000);
+        assert_eq!(sizes.largest_binding(), ("bucket_items", 128 << 20));
+        // 2²⁰ monomers is the largest N: one more doubles the cell table.
+        assert!(Sizes::new(1 << 20, 6, 12, 3).check(&lavapipe()).is_ok());
+        let over = Sizes::new((1 << 20) + 1, 6, 12, 3);
+        assert_eq!(over.largest_binding().0, "bucket_items");
+        assert!(over.check(&lavapipe()).is_err());
+        // More slots than three chunks hold.
+        assert!(Sizes::new(1_000_000, 6, 13, 3).check(&lavapipe()).is_err());
     }
 }

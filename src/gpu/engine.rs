@@ -127,7 +127,8 @@ pub struct GpuEngine {
     pub sizes: Sizes,
     kernels: Kernels,
     buffers: Buffers,
-    bind_group: wgpu::BindGroup,
+    /// One per entry point, in kernels::ENTRY_POINTS order.
+    bind_groups: Vec<wgpu::BindGroup>,
     pub step: u64,
     pub time: f64,
     /// Steps per submission and between reads of the small block.
@@ -165,7 +166,6 @@ impl GpuEngine {
             .create_command_encoder(&Default::default());
         {
             let mut pass = encoder.begin_compute_pass(&Default::default());
-            pass.set_bind_group(0, &engine.bind_group, &[]);
             engine.encode(
                 &mut pass,
                 &[
@@ -209,7 +209,7 @@ impl GpuEngine {
         sizes.check(&ctx.device.limits())?;
         let kernels = Kernels::new(&ctx)?;
         let buffers = Buffers::new(&ctx.device, sizes);
-        let bind_group = kernels.bind_group(&ctx.device, &buffers);
+        let bind_groups = kernels.bind_groups(&ctx.device, &buffers);
         let mut engine = GpuEngine {
             ctx,
             law,
@@ -218,7 +218,7 @@ impl GpuEngine {
             sizes,
             kernels,
             buffers,
-            bind_group,
+            bind_groups,
             step: 0,
             time: 0.0,
             readback_every: DEFAULT_READBACK_EVERY,
@@ -260,7 +260,7 @@ impl GpuEngine {
             table_mask: (self.sizes.table - 1) as u32,
             bucket_capacity: self.sizes.bucket_capacity as u32,
             damping_kind: damping.kind,
-            _pad: 0,
+            slot_chunk: self.sizes.slot_chunk() as u32,
             dt: self.dt,
             radius: law.radius,
             inverse_mass: 1.0 / law.mass,
@@ -278,6 +278,13 @@ impl GpuEngine {
             self.ctx
                 .queue
                 .write_buffer(self.buffers.get(name), 0, bytemuck::cast_slice(data));
+        }
+    }
+
+    /// Writes a per-slot vector array to its chunk bindings.
+    fn write_slots(&self, array: &str, data: &[[f64; 4]]) {
+        for (c, part) in data.chunks(self.sizes.slot_chunk()).enumerate() {
+            self.write(&format!("{array}_{c}"), part);
         }
     }
 
@@ -331,8 +338,8 @@ impl GpuEngine {
             .collect();
         let n2: Vec<[f64; 4]> = table.pair.iter().map(|c| vec4(c.n2)).collect();
         let partner: Vec<u32> = table.pair.iter().map(|c| c.partner).collect();
-        self.write("pair_n1", &n1);
-        self.write("pair_n2", &n2);
+        self.write_slots("pair_n1", &n1);
+        self.write_slots("pair_n2", &n2);
         self.write("pair_partner", &partner);
         self.write("pair_count", &table.pair_count);
         let wn1: Vec<[f64; 4]> = table
@@ -367,6 +374,7 @@ impl GpuEngine {
                 _ => groups(n),
             };
             pass.set_pipeline(self.kernels.pipeline(k));
+            pass.set_bind_group(0, &self.bind_groups[k as usize], &[]);
             pass.dispatch_workgroups(count, 1, 1);
         }
     }
@@ -391,7 +399,6 @@ impl GpuEngine {
         let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
         {
             let mut pass = encoder.begin_compute_pass(&Default::default());
-            pass.set_bind_group(0, &self.bind_group, &[]);
             self.encode(&mut pass, kernels);
         }
         self.ctx.queue.submit([encoder.finish()]);
@@ -422,7 +429,6 @@ impl GpuEngine {
             let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
             {
                 let mut pass = encoder.begin_compute_pass(&Default::default());
-                pass.set_bind_group(0, &self.bind_group, &[]);
                 for _ in 0..batch {
                     self.encode(&mut pass, &Self::STEP);
                 }
@@ -484,7 +490,6 @@ impl GpuEngine {
         let mut encoder = device.create_command_encoder(&Default::default());
         {
             let mut pass = encoder.begin_compute_pass(&Default::default());
-            pass.set_bind_group(0, &self.bind_group, &[]);
             let mut query = 0;
             for _ in 0..steps {
                 for k in Self::STEP {
@@ -534,7 +539,6 @@ impl GpuEngine {
         let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
         {
             let mut pass = encoder.begin_compute_pass(&Default::default());
-            pass.set_bind_group(0, &self.bind_group, &[]);
             self.encode(&mut pass, &[Kernel::ReduceDiagnostics]);
         }
         let flag_bytes = (layout::FLAG_COUNT * 4) as u64;
@@ -679,6 +683,17 @@ impl GpuEngine {
         bytemuck::pod_collect_to_vec(&raw[..bytes as usize])
     }
 
+    /// A per-slot vector array, gathered from its chunk bindings.
+    fn read_slots(&self, array: &str, count: usize) -> Vec<[f64; 4]> {
+        let chunk = self.sizes.slot_chunk();
+        let mut out = Vec::with_capacity(count);
+        for c in 0..layout::SLOT_CHUNKS {
+            let part = count.saturating_sub(c * chunk).min(chunk);
+            out.extend(self.read::<[f64; 4]>(&format!("{array}_{c}"), part));
+        }
+        out
+    }
+
     fn read_vec3(&self, name: &str, count: usize) -> Vec<DVec3> {
         self.read::<[f64; 4]>(name, count)
             .into_iter()
@@ -713,8 +728,8 @@ impl GpuEngine {
         let n = self.sizes.monomers;
         let (ps, ws) = (self.sizes.pair_slots, self.sizes.wall_slots);
         let mut table = ContactTable::new(n, ps, ws);
-        let n1: Vec<[f64; 4]> = self.read("pair_n1", n * ps);
-        let n2: Vec<[f64; 4]> = self.read("pair_n2", n * ps);
+        let n1 = self.read_slots("pair_n1", n * ps);
+        let n2 = self.read_slots("pair_n2", n * ps);
         let partner: Vec<u32> = self.read("pair_partner", n * ps);
         table.pair_count = self.read("pair_count", n);
         for (k, c) in table.pair.iter_mut().enumerate() {

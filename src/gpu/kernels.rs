@@ -1,10 +1,13 @@
-//! Compute pipelines of the engine, built once: one per entry point, all with the same explicit
-//! layout (one bind group of read-write storage buffers, shaders/engine/bindings.wgsl), so the
-//! step script binds the state once per compute pass.
+//! Compute pipelines of the engine, built once: one per entry point, each with an explicit
+//! layout holding only the bindings of shaders/engine/bindings.wgsl its entry point uses (naga
+//! says which), and one bind group per entry point built once per engine. The engine declares
+//! more storage buffers (42) than a device binds per stage (lavapipe: 32); no pass uses more
+//! than [`MAX_BINDINGS_PER_PASS`].
 
-use super::buffers::{Buffers, BINDINGS};
+use super::buffers::{Buffers, MAX_BINDINGS_PER_PASS};
 use super::context::GpuContext;
-use super::shader::{assemble_pass, ShaderError};
+use super::shader::{assemble_pass, Assembled, ShaderError};
+use super::spirv::entry_bindings;
 
 /// Entry points in step order, with the pass file (without `.wgsl`) that holds each.
 pub const ENTRY_POINTS: [(&str, &str); 15] = [
@@ -45,77 +48,142 @@ pub enum Kernel {
     ContactsClearTally,
 }
 
+/// Binding numbers the entry point `entry` of an assembled pass uses, ascending.
+pub fn used_bindings(pass: &Assembled, entry: &str) -> Result<Vec<u32>, ShaderError> {
+    let (module, info) = pass.validate()?;
+    Ok(entry_bindings(&module, &info, entry))
+}
+
 #[derive(Debug)]
 pub struct Kernels {
-    pub layout: wgpu::BindGroupLayout,
+    /// Per entry point (in [`ENTRY_POINTS`] order): its bindings and their layout.
+    bindings: Vec<Vec<u32>>,
+    layouts: Vec<wgpu::BindGroupLayout>,
     pipelines: Vec<wgpu::ComputePipeline>,
 }
 
 impl Kernels {
     pub fn new(ctx: &GpuContext) -> Result<Self, ShaderError> {
         let device = &ctx.device;
-        let entries: Vec<wgpu::BindGroupLayoutEntry> = (0..BINDINGS.len() as u32)
-            .map(|binding| wgpu::BindGroupLayoutEntry {
-                binding,
-                visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Storage { read_only: false },
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            })
-            .collect();
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("engine state"),
-            entries: &entries,
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("engine"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let mut modules: Vec<(&str, wgpu::ShaderModule)> = Vec::new();
-        let mut pipelines = Vec::new();
+        let mut passes: Vec<(&str, Assembled)> = Vec::new();
+        let mut kernels = Kernels {
+            bindings: Vec::new(),
+            layouts: Vec::new(),
+            pipelines: Vec::new(),
+        };
         for (pass, entry) in ENTRY_POINTS {
-            if !modules.iter().any(|(p, _)| *p == pass) {
-                let module = assemble_pass(pass)?.create_module(ctx)?;
-                modules.push((pass, module));
+            if !passes.iter().any(|(p, _)| *p == pass) {
+                passes.push((pass, assemble_pass(pass)?));
             }
-            let module = &modules.iter().find(|(p, _)| *p == pass).expect("made").1;
-            pipelines.push(
-                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            let (_, assembled) = passes.iter().find(|(p, _)| *p == pass).expect("made");
+            let module = &assembled.create_module_for(ctx, ctx.float_mode, Some(entry))?;
+            let bindings = used_bindings(assembled, entry)?;
+            debug_assert!(bindings.len() as u32 <= MAX_BINDINGS_PER_PASS);
+            let entries: Vec<wgpu::BindGroupLayoutEntry> = bindings
+                .iter()
+                .map(|&binding| wgpu::BindGroupLayoutEntry {
+                    binding,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: false },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                })
+                .collect();
+            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(entry),
+                entries: &entries,
+            });
+            let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(entry),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+            kernels.pipelines.push(device.create_compute_pipeline(
+                &wgpu::ComputePipelineDescriptor {
                     label: Some(entry),
                     layout: Some(&pipeline_layout),
                     module,
                     entry_point: Some(entry),
                     compilation_options: Default::default(),
                     cache: None,
-                }),
-            );
+                },
+            ));
+            kernels.bindings.push(bindings);
+            kernels.layouts.push(layout);
         }
-        Ok(Kernels { layout, pipelines })
+        Ok(kernels)
     }
 
     pub fn pipeline(&self, kernel: Kernel) -> &wgpu::ComputePipeline {
         &self.pipelines[kernel as usize]
     }
 
-    /// The bind group of `buffers` (built once per engine).
-    pub fn bind_group(&self, device: &wgpu::Device, buffers: &Buffers) -> wgpu::BindGroup {
-        let entries: Vec<wgpu::BindGroupEntry> = buffers
-            .bindings
+    /// One bind group of `buffers` per entry point, in [`ENTRY_POINTS`] order (built once per
+    /// engine).
+    pub fn bind_groups(&self, device: &wgpu::Device, buffers: &Buffers) -> Vec<wgpu::BindGroup> {
+        ENTRY_POINTS
             .iter()
             .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: b.as_entire_binding(),
+            .map(|(k, (_, entry))| {
+                let entries: Vec<wgpu::BindGroupEntry> = self.bindings[k]
+                    .iter()
+                    .map(|&binding| wgpu::BindGroupEntry {
+                        binding,
+                        resource: buffers.bindings[binding as usize].as_entire_binding(),
+                    })
+                    .collect();
+                device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some(entry),
+                    layout: &self.layouts[k],
+                    entries: &entries,
+                })
             })
-            .collect();
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("engine state"),
-            layout: &self.layout,
-            entries: &entries,
-        })
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gpu::buffers::BINDINGS;
+
+    /// The bindings of every entry point, from the shaders (no GPU needed).
+    fn per_entry_point() -> Vec<(&'static str, Vec<u32>)> {
+        ENTRY_POINTS
+            .iter()
+            .map(|(pass, entry)| {
+                let assembled = assemble_pass(pass).unwrap();
+                (*entry, used_bindings(&assembled, entry).unwrap())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn no_pass_binds_more_than_the_stated_maximum_and_one_reaches_it() {
+        let all = per_entry_point();
+        for (entry, bindings) in &all {
+            let names: Vec<&str> = bindings.iter().map(|&b| BINDINGS[b as usize]).collect();
+            eprintln!("{entry}: {} bindings {names:?}", bindings.len());
+        }
+        let most = all.iter().map(|(_, b)| b.len()).max().unwrap() as u32;
+        assert_eq!(most, MAX_BINDINGS_PER_PASS);
+        assert!(
+            BINDINGS.len() > 32,
+            "the engine as a whole declares more than one pass binds"
+        );
+    }
+
+    #[test]
+    fn every_binding_is_used_by_some_pass() {
+        let all = per_entry_point();
+        for (b, name) in BINDINGS.iter().enumerate() {
+            assert!(
+                all.iter().any(|(_, used)| used.contains(&(b as u32))),
+                "{name} is bound by no pass"
+            );
+        }
     }
 }

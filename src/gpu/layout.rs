@@ -89,7 +89,8 @@ pub struct GpuParams {
     pub table_mask: u32,
     pub bucket_capacity: u32,
     pub damping_kind: u32,
-    pub _pad: u32,
+    /// Elements in each binding of a per-slot vector array.
+    pub slot_chunk: u32,
     pub dt: f64,
     pub radius: f64,
     pub inverse_mass: f64,
@@ -120,6 +121,7 @@ pub const MAX_WALLS: usize = 8;
 pub const INCOMING_CAPACITY: usize = 16;
 pub const REDUCE_BLOCK: usize = 64;
 pub const NEIGHBOUR_CAPACITY: usize = 24;
+pub const SLOT_CHUNKS: usize = 3;
 pub const DIAG_THREADS: usize = 64;
 pub const TALLY_STRIDE: usize = 8;
 pub const DIAG_PAIR_CONTACTS: usize = 8;
@@ -218,7 +220,7 @@ mod tests {
                 table_mask,
                 bucket_capacity,
                 damping_kind,
-                _pad,
+                slot_chunk,
                 dt,
                 radius,
                 inverse_mass,
@@ -269,6 +271,7 @@ mod tests {
             ("FLAG_NEIGHBOURS", FLAG_NEIGHBOURS),
             ("FLAG_REBUILD", FLAG_REBUILD),
             ("NEIGHBOUR_CAPACITY", NEIGHBOUR_CAPACITY),
+            ("SLOT_CHUNKS", SLOT_CHUNKS),
             ("NO_MONOMER", NO_MONOMER as usize),
         ] {
             assert_eq!(constant(name), value as u64, "{name}");

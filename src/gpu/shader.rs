@@ -186,6 +186,17 @@ impl Assembled {
         ctx: &GpuContext,
         mode: FloatMode,
     ) -> Result<wgpu::ShaderModule, ShaderError> {
+        self.create_module_for(ctx, mode, None)
+    }
+
+    /// A module for one entry point (`Some`) or all of them, in the given mode. In the exact
+    /// mode a module for one entry point declares only the bindings that entry point uses.
+    pub fn create_module_for(
+        &self,
+        ctx: &GpuContext,
+        mode: FloatMode,
+        entry: Option<&str>,
+    ) -> Result<wgpu::ShaderModule, ShaderError> {
         let (module, info) = self.validate()?;
         match mode {
             FloatMode::Relaxed => {
@@ -200,13 +211,15 @@ impl Assembled {
                 if ctx.float_mode != FloatMode::Exact {
                     return Err(ShaderError::ExactUnavailable(ctx.summary().name));
                 }
-                let words = spirv::exact_spirv(&module, &info).map_err(|e| ShaderError::Spirv {
-                    path: self.path,
-                    message: e.to_string(),
-                })?;
+                let words =
+                    spirv::exact_spirv(&module, &info, entry).map_err(|e| ShaderError::Spirv {
+                        path: self.path,
+                        message: e.to_string(),
+                    })?;
                 let entry_points: Vec<_> = module
                     .entry_points
                     .iter()
+                    .filter(|ep| entry.is_none_or(|name| ep.name == name))
                     .map(|ep| wgpu::PassthroughShaderEntryPoint {
                         name: ep.name.clone().into(),
                         workgroup_size: ep.workgroup_size.into(),

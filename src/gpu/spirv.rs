@@ -39,12 +39,59 @@ const HEADER_WORDS: usize = 5;
 ///
 /// Bounds checks clamp indices into range (`Restrict`), as wgpu does on Vulkan without robust
 /// buffer access: a stray index reads and writes inside the binding, never outside it.
+///
+/// With `entry`, only that compute entry point and the globals it uses are written (as wgpu
+/// does for WGSL), and its bindings are renumbered 0, 1, 2, … in ascending order of their
+/// WGSL numbers: wgpu's Vulkan backend numbers the bindings of a layout by their position in
+/// it (and renumbers WGSL it compiles to match), so a passthrough module for a pipeline whose
+/// layout holds exactly [`entry_bindings`] must do the same.
 pub fn exact_spirv(
     module: &naga::Module,
     info: &naga::valid::ModuleInfo,
+    entry: Option<&str>,
 ) -> Result<Vec<u32>, naga::back::spv::Error> {
-    let words = naga::back::spv::write_vec(module, info, &options(), None)?;
+    let mut options = options();
+    let pipeline = entry.map(|name| {
+        for (position, binding) in entry_bindings(module, info, name).into_iter().enumerate() {
+            options.binding_map.insert(
+                naga::ResourceBinding { group: 0, binding },
+                naga::back::spv::BindingInfo {
+                    descriptor_set: 0,
+                    binding: position as u32,
+                    binding_array_size: None,
+                },
+            );
+        }
+        naga::back::spv::PipelineOptions {
+            shader_stage: naga::ShaderStage::Compute,
+            entry_point: name.to_string(),
+        }
+    });
+    let words = naga::back::spv::write_vec(module, info, &options, pipeline.as_ref())?;
     Ok(forbid_contraction(&words))
+}
+
+/// Binding numbers (group 0) the entry point `entry` uses, ascending; naga's analysis follows
+/// calls, so a binding used by a helper counts.
+pub fn entry_bindings(
+    module: &naga::Module,
+    info: &naga::valid::ModuleInfo,
+    entry: &str,
+) -> Vec<u32> {
+    let index = module
+        .entry_points
+        .iter()
+        .position(|e| e.name == entry)
+        .unwrap_or_else(|| panic!("no entry point {entry}"));
+    let uses = info.get_entry_point(index);
+    let mut bindings: Vec<u32> = module
+        .global_variables
+        .iter()
+        .filter(|(handle, _)| !uses[*handle].is_empty())
+        .filter_map(|(_, var)| var.binding.as_ref().map(|b| b.binding))
+        .collect();
+    bindings.sort_unstable();
+    bindings
 }
 
 fn options() -> naga::back::spv::Options<'static> {
@@ -118,7 +165,7 @@ mod tests {
         .validate(&module)
         .unwrap();
         let plain = naga::back::spv::write_vec(&module, &info, &options(), None).unwrap();
-        (plain, exact_spirv(&module, &info).unwrap())
+        (plain, exact_spirv(&module, &info, None).unwrap())
     }
 
     fn is_no_contraction((op, operands): &(u32, Vec<u32>)) -> bool {
