@@ -60,15 +60,6 @@ pub const BINDINGS: [&str; 42] = [
     "reference_position",
 ];
 
-/// The per-slot vector arrays, each split over [`SLOT_CHUNKS`] bindings.
-pub const SLOT_ARRAYS: [&str; 5] = [
-    "pair_n1",
-    "pair_n2",
-    "pair_result_a",
-    "pair_result_b",
-    "pair_result_c",
-];
-
 /// The most bindings one pass uses (each pass binds only what its entry point reads or
 /// writes; `kernels::tests` derives this from the shaders with naga).
 pub const MAX_BINDINGS_PER_PASS: u32 = 27;

@@ -65,7 +65,9 @@ pub struct Kernels {
 impl Kernels {
     pub fn new(ctx: &GpuContext) -> Result<Self, ShaderError> {
         let device = &ctx.device;
-        let mut passes: Vec<(&str, Assembled)> = Vec::new();
+        // Each pass validated once: (name, text, naga module, analysis).
+        type Validated = (Assembled, naga::Module, naga::valid::ModuleInfo);
+        let mut passes: Vec<(&str, Validated)> = Vec::new();
         let mut kernels = Kernels {
             bindings: Vec::new(),
             layouts: Vec::new(),
@@ -73,11 +75,15 @@ impl Kernels {
         };
         for (pass, entry) in ENTRY_POINTS {
             if !passes.iter().any(|(p, _)| *p == pass) {
-                passes.push((pass, assemble_pass(pass)?));
+                let assembled = assemble_pass(pass)?;
+                let (module, info) = assembled.validate()?;
+                passes.push((pass, (assembled, module, info)));
             }
-            let (_, assembled) = passes.iter().find(|(p, _)| *p == pass).expect("made");
+            let (_, (assembled, naga_module, info)) =
+                passes.iter().find(|(p, _)| *p == pass).expect("made");
             let module = &assembled.create_module_for(ctx, ctx.float_mode, Some(entry))?;
-            let bindings = used_bindings(assembled, entry)?;
+            // The same list the exact-mode SPIR-V is renumbered by (spirv::exact_spirv).
+            let bindings = entry_bindings(naga_module, info, entry);
             debug_assert!(bindings.len() as u32 <= MAX_BINDINGS_PER_PASS);
             let entries: Vec<wgpu::BindGroupLayoutEntry> = bindings
                 .iter()
@@ -174,6 +180,24 @@ mod tests {
             BINDINGS.len() > 32,
             "the engine as a whole declares more than one pass binds"
         );
+    }
+
+    #[test]
+    fn binding_names_and_numbers_match_the_wgsl() {
+        // Any pass declares every binding (they all include bindings.wgsl).
+        let (module, _) = assemble_pass("forces").unwrap().validate().unwrap();
+        let mut declared: Vec<(u32, String)> = module
+            .global_variables
+            .iter()
+            .filter_map(|(_, v)| Some((v.binding.as_ref()?.binding, v.name.clone()?)))
+            .collect();
+        declared.sort();
+        let expected: Vec<(u32, String)> = BINDINGS
+            .iter()
+            .enumerate()
+            .map(|(i, name)| (i as u32, name.to_string()))
+            .collect();
+        assert_eq!(declared, expected);
     }
 
     #[test]
