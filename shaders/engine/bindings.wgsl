@@ -65,6 +65,10 @@ const REDUCE_BLOCK: u32 = 64u;
 const DIAG_THREADS: u32 = 64u;
 // Bindings each per-slot vector array is split into (see load_pair_n1).
 const SLOT_CHUNKS: u32 = 3u;
+// Chunks in use: 1 where every per-slot array fits its first binding. The engine compiles its
+// kernels with the value its problem needs (gpu::shader::Assembled::with_one_slot_chunk), so
+// the chunk selection below folds away where there is one chunk; this line is rewritten.
+const SLOT_CHUNKS_IN_USE: u32 = 3u;
 // Candidate partners j > i one monomer's list holds (within 2r + skin: about 12 at φ = 0.74).
 const NEIGHBOUR_CAPACITY: u32 = 24u;
 
@@ -163,6 +167,9 @@ const DIAG_SIZE: u32 = 80u;
 
 // Which binding of a per-slot array holds slot index `idx`, and where: (chunk, element).
 fn slot_chunk_of(idx: u32) -> vec2<u32> {
+    if SLOT_CHUNKS_IN_USE == 1u {
+        return vec2<u32>(0u, idx);
+    }
     let c = min(idx / params.slot_chunk, SLOT_CHUNKS - 1u);
     return vec2<u32>(c, idx - c * params.slot_chunk);
 }

@@ -84,6 +84,10 @@ pub struct Sizes {
 /// monomers at φ = 0.74 and a bucket a few more where hashed cells share it.
 pub const DEFAULT_BUCKET_CAPACITY: usize = 16;
 
+/// Vectors one binding of a per-slot array holds when a single binding is used: 128 MiB (the
+/// storage binding size every adapter offers, wgpu's default) of vec4<f64>.
+pub const ONE_CHUNK_CAPACITY: usize = (128 << 20) / VEC4 as usize;
+
 impl Sizes {
     pub fn new(monomers: usize, walls: usize, pair_slots: usize, wall_slots: usize) -> Self {
         Sizes {
@@ -96,12 +100,33 @@ impl Sizes {
         }
     }
 
-    /// Vectors in each binding of a per-slot array: the N · pair_slots slots spread evenly
-    /// over [`SLOT_CHUNKS`] bindings (at least one, since no binding may be empty).
+    /// Whether every per-slot array fits its first binding. The kernels are then compiled
+    /// with one chunk and the chunk selection folds away: lavapipe runs both sides of every
+    /// branch, so three-way selection costs three loads per access.
+    pub fn one_slot_chunk(&self) -> bool {
+        self.monomers * self.pair_slots <= ONE_CHUNK_CAPACITY
+    }
+
+    /// Vectors in each binding of a per-slot array: all N · pair_slots slots in the first
+    /// binding where they fit ([`Sizes::one_slot_chunk`]; the other bindings then hold one
+    /// unused vector, since no binding may be empty), else spread evenly over [`SLOT_CHUNKS`].
     pub fn slot_chunk(&self) -> usize {
-        (self.monomers * self.pair_slots)
-            .div_ceil(SLOT_CHUNKS)
-            .max(1)
+        let slots = self.monomers * self.pair_slots;
+        if self.one_slot_chunk() {
+            slots.max(1)
+        } else {
+            slots.div_ceil(SLOT_CHUNKS)
+        }
+    }
+
+    /// Bytes of chunk binding `c` of a per-slot vector array.
+    fn chunk_bytes(&self, c: usize) -> u64 {
+        let used = if c == 0 || !self.one_slot_chunk() {
+            self.slot_chunk()
+        } else {
+            1
+        };
+        used as u64 * VEC4
     }
 
     /// Bytes of every binding, in binding order.
@@ -109,7 +134,7 @@ impl Sizes {
         let n = self.monomers as u64;
         let ws = self.wall_slots as u64;
         let ps = self.pair_slots as u64;
-        let chunk = self.slot_chunk() as u64 * VEC4;
+        let chunk = |c: usize| self.chunk_bytes(c);
         let blocks = self.monomers.div_ceil(REDUCE_BLOCK) as u64;
         [
             std::mem::size_of::<GpuParams>() as u64,
@@ -122,23 +147,23 @@ impl Sizes {
             n * VEC4,
             n * VEC4,
             n * TALLY_STRIDE as u64 * 8,
-            chunk,
-            chunk,
-            chunk,
-            chunk,
-            chunk,
-            chunk,
+            chunk(0),
+            chunk(1),
+            chunk(2),
+            chunk(0),
+            chunk(1),
+            chunk(2),
             n * ps * 4,
             n * 4,
-            chunk,
-            chunk,
-            chunk,
-            chunk,
-            chunk,
-            chunk,
-            chunk,
-            chunk,
-            chunk,
+            chunk(0),
+            chunk(1),
+            chunk(2),
+            chunk(0),
+            chunk(1),
+            chunk(2),
+            chunk(0),
+            chunk(1),
+            chunk(2),
             n * ws * VEC4,
             n * ws * VEC4,
             n * ws * 4,

@@ -207,7 +207,7 @@ impl GpuEngine {
             table.wall_slots,
         );
         sizes.check(&ctx.device.limits())?;
-        let kernels = Kernels::new(&ctx)?;
+        let kernels = Kernels::new(&ctx, sizes.one_slot_chunk())?;
         let buffers = Buffers::new(&ctx.device, sizes);
         let bind_groups = kernels.bind_groups(&ctx.device, &buffers);
         let mut engine = GpuEngine {
@@ -689,6 +689,9 @@ impl GpuEngine {
         let mut out = Vec::with_capacity(count);
         for c in 0..layout::SLOT_CHUNKS {
             let part = count.saturating_sub(c * chunk).min(chunk);
+            if part == 0 {
+                break;
+            }
             out.extend(self.read::<[f64; 4]>(&format!("{array}_{c}"), part));
         }
         out

@@ -63,7 +63,9 @@ pub struct Kernels {
 }
 
 impl Kernels {
-    pub fn new(ctx: &GpuContext) -> Result<Self, ShaderError> {
+    /// The engine's kernels; `one_slot_chunk` compiles them for per-slot arrays held in one
+    /// binding (`Sizes::one_slot_chunk`).
+    pub fn new(ctx: &GpuContext, one_slot_chunk: bool) -> Result<Self, ShaderError> {
         let device = &ctx.device;
         // Each pass validated once: (name, text, naga module, analysis).
         type Validated = (Assembled, naga::Module, naga::valid::ModuleInfo);
@@ -75,7 +77,10 @@ impl Kernels {
         };
         for (pass, entry) in ENTRY_POINTS {
             if !passes.iter().any(|(p, _)| *p == pass) {
-                let assembled = assemble_pass(pass)?;
+                let mut assembled = assemble_pass(pass)?;
+                if one_slot_chunk {
+                    assembled = assembled.with_one_slot_chunk();
+                }
                 let (module, info) = assembled.validate()?;
                 passes.push((pass, (assembled, module, info)));
             }

@@ -135,7 +135,22 @@ pub struct Assembled {
     segments: Vec<Segment>,
 }
 
+/// The line of shaders/engine/bindings.wgsl that [`Assembled::with_one_slot_chunk`] rewrites.
+const SLOT_CHUNKS_LINE: &str = "const SLOT_CHUNKS_IN_USE: u32 = 3u;";
+
 impl Assembled {
+    /// The same pass compiled for per-slot arrays held in one binding (see
+    /// `Sizes::one_slot_chunk`): one line changes, so error locations stay as they are. A pass
+    /// without the engine's bindings is returned unchanged.
+    pub fn with_one_slot_chunk(mut self) -> Self {
+        if self.source.contains(SLOT_CHUNKS_LINE) {
+            self.source = self
+                .source
+                .replace(SLOT_CHUNKS_LINE, "const SLOT_CHUNKS_IN_USE: u32 = 1u;");
+        }
+        self
+    }
+
     /// File and 1-based line of a 1-based line of the assembled text; `None` for marker lines.
     pub fn locate(&self, line: u32) -> Option<(&'static str, u32)> {
         self.segments
