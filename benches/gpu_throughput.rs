@@ -1,6 +1,7 @@
 //! Throughput of the GPU engine (lavapipe here, whatever adapter the machine has elsewhere)
 //! next to the CPU reference: particle-steps per second on RBD samples under omnidirectional
-//! compression at 1 m/s, for N = 10³, 10⁴ (override with `DUSTDEM_BENCH_SIZES=1000,10000,100000`),
+//! compression at 1 m/s, for N = 10³, 10⁴ (override with `DUSTDEM_BENCH_SIZES=1000,10000,100000`;
+//! the step count with `DUSTDEM_BENCH_STEPS`),
 //! with the time per pass of the GPU step. Prints a Markdown table.
 //!
 //! Run: `cargo bench --bench gpu_throughput`. Per-pass times come from timestamps written
@@ -58,7 +59,10 @@ fn main() {
     );
     println!("|---|---|---|---|---|---|{}", "---|".repeat(names.len()));
     for n in sizes {
-        let steps = (1e7 / n as f64).clamp(200.0, 5_000.0) as u64;
+        let steps = match std::env::var("DUSTDEM_BENCH_STEPS") {
+            Ok(s) => s.parse().expect("DUSTDEM_BENCH_STEPS is an integer"),
+            Err(_) => (1e7 / n as f64).clamp(200.0, 5_000.0) as u64,
+        };
         let cfg = config(n);
 
         let mut cpu = Compression::new(&cfg).expect("setup");

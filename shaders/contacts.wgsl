@@ -1,9 +1,10 @@
-// requires: bindings interaction wall math
+// requires: bindings interaction wall sliding math
 //
 // Contact maintenance pass, twin of update_contacts in src/cpu/contacts.rs: breaks stretched
 // contacts (δ < −δ_c) and forms new ones (δ ≥ 0), keeping the history of every contact that
 // persists. One invocation per owner: it alone writes the owner's slots, so no two invocations
-// touch the same contact.
+// touch the same contact. Few owners have an event in a step, so a scan lists them and the
+// events are processed for the listed owners only (see `work_list` in bindings.wgsl).
 //
 // Order as on the CPU: broken slots are replaced by the last one (swap-remove); new pair contacts
 // are appended in increasing partner index (both sides' candidate lists are sorted); new wall
@@ -27,14 +28,78 @@ fn has_wall(i: u32, count: u32, w: u32) -> bool {
     return false;
 }
 
+// Whether a contact needs any inelastic correction in forces_corrections: the tests that open
+// the corrections in rolling_correction, sliding_correction and twisting_correction, on the
+// contact as stored. If rolling needs none, sliding is tested on the same pointers as there; if
+// it does, the owner is listed anyway. Tested before this step's events, which is the same:
+// the events leave surviving contacts as they are, and a new contact starts with ξ = 0,
+// twist 0 and |ζ| at rounding level.
+fn beyond_limits(x1: vec3<f64>, x2: vec3<f64>, n1: vec3<f64>, n2: vec3<f64>, twist: f64) -> bool {
+    let k = params.pair;
+    let r = params.radius;
+    let nc = vec_normalize(x1 - x2);
+    let rolls = !(vec_length(n1 + n2) * k.reduced_radius <= k.xi_crit);
+    let slides = !(vec_length(sliding_displacement(n1, n2, nc, r, r)) <= k.zeta_crit);
+    let twists = abs(twist) > k.phi_crit;
+    return rolls || slides || twists;
+}
+
+// Lists the owners that have a contact event this step (a contact to break or one to form,
+// tested exactly as `contacts` tests them, so an owner left out has nothing to do there), and
+// the owners with a contact beyond an inelastic limit (for forces_corrections). The lists were
+// emptied by integrate_drift (or are fresh from the upload); a second scan before the next
+// drift would list owners twice.
 @compute @workgroup_size(64)
-fn contacts(@builtin(global_invocation_id) id: vec3<u32>) {
+fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     // Every neighbour pass of this step is done: the lists are fresh.
     if i == 0u {
         atomicStore(&flags[FLAG_REBUILD], NO_MONOMER);
     }
     if i >= params.n {
+        return;
+    }
+    let r = params.radius;
+    let x = position[i].xyz;
+    let count = pair_count[i];
+    var event = false;
+    var beyond = false;
+    for (var slot = 0u; slot < count; slot++) {
+        let idx = i * params.pair_slots + slot;
+        let x2 = position[pair_partner[idx]].xyz;
+        event = event || 2.0lf * r - vec_length(x - x2) < -params.pair.delta_c;
+        let stored_n1 = load_pair_n1(idx);
+        beyond = beyond || beyond_limits(x, x2, stored_n1.xyz, load_pair_n2(idx).xyz, stored_n1.w);
+    }
+    let wcount = wall_count[i];
+    for (var slot = 0u; slot < wcount; slot++) {
+        let w = wall_id[i * params.wall_slots + slot];
+        let delta = wall_overlap(x, walls[w].point.xyz, walls[w].normal.xyz, r);
+        event = event || delta < -walls[w].k.delta_c;
+    }
+    let list = i * NEIGHBOUR_CAPACITY;
+    for (var k = 0u; k < neighbour_count[i]; k++) {
+        let j = neighbour_list[list + k];
+        let touching = !(2.0lf * r - vec_length(x - position[j].xyz) < 0.0lf);
+        event = event || (touching && !has_pair(i, count, j));
+    }
+    for (var w = 0u; w < params.wall_count; w++) {
+        let touching = !(wall_overlap(x, walls[w].point.xyz, walls[w].normal.xyz, r) < 0.0lf);
+        event = event || (touching && !has_wall(i, wcount, w));
+    }
+    if event {
+        push_work(WORK_CONTACTS, i);
+    }
+    if beyond {
+        push_work(WORK_CORRECTIONS, i);
+    }
+}
+
+// The events of the owners `contacts_scan` listed (dispatched indirectly over that list).
+@compute @workgroup_size(8)
+fn contacts(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = work_item(WORK_CONTACTS, id.x);
+    if i == NO_MONOMER {
         return;
     }
     let r = params.radius;

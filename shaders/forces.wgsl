@@ -9,17 +9,26 @@
 // registers the slot with the partner (`incoming`); the walls pass then gathers per monomer in
 // the CPU's order (incoming by owner index, then the monomer's own slots), deterministic and
 // bit-identical to the CPU sums.
+//
+// The corrections are rare and expensive (each books two step energies, i.e. two more contact
+// evaluations), and lavapipe runs every branch for every invocation. So `contacts_scan` lists
+// the owners with a contact beyond a limit (`beyond_limits` in contacts.wgsl),
+// `forces_corrections` applies the limits for just those owners (dispatched indirectly over the
+// list), and `forces` evaluates the contacts. The
+// order within one contact (corrections, then forces) and the order of the tally additions
+// (slot by slot, per channel) are the CPU's, so the results are the same bits.
 
-@compute @workgroup_size(64)
-fn forces(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.x;
-    if i >= params.n {
+// apply_inelastic_limits for the contacts of the owners `contacts_scan` listed: rolling,
+// sliding, twisting, each booked per channel as the drop of the contact's step energy.
+@compute @workgroup_size(8)
+fn forces_corrections(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = work_item(WORK_CORRECTIONS, id.x);
+    if i == NO_MONOMER {
         return;
     }
     let k = params.pair;
     let r = params.radius;
     let x1 = position[i].xyz;
-    let v1 = velocity[i].xyz;
     for (var slot = 0u; slot < pair_count[i]; slot++) {
         let idx = i * params.pair_slots + slot;
         let j = pair_partner[idx];
@@ -29,7 +38,6 @@ fn forces(@builtin(global_invocation_id) id: vec3<u32>) {
         var n2 = load_pair_n2(idx).xyz;
         var twist = stored_n1.w;
 
-        // apply_inelastic_limits: rolling, sliding, twisting.
         let nc = vec_normalize(x1 - x2);
         let rolled = rolling_correction(n1, n2, k.reduced_radius, k.xi_crit);
         if rolled.changed {
@@ -53,8 +61,24 @@ fn forces(@builtin(global_invocation_id) id: vec3<u32>) {
         }
         store_pair_n1(idx, vec4<f64>(n1, twist));
         store_pair_n2(idx, vec4<f64>(n2, 0.0lf));
+    }
+}
 
-        let it = pair_interaction(x1, x2, v1, velocity[j].xyz, n1, n2, twist);
+// JKR, damping, rolling, sliding and twisting of every contact, after the corrections.
+@compute @workgroup_size(64)
+fn forces(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= params.n {
+        return;
+    }
+    let x1 = position[i].xyz;
+    let v1 = velocity[i].xyz;
+    for (var slot = 0u; slot < pair_count[i]; slot++) {
+        let idx = i * params.pair_slots + slot;
+        let j = pair_partner[idx];
+        let stored_n1 = load_pair_n1(idx);
+        let n2 = load_pair_n2(idx).xyz;
+        let it = pair_interaction(x1, position[j].xyz, v1, velocity[j].xyz, stored_n1.xyz, n2, stored_n1.w);
         store_pair_result(idx, PairResult(it.f, it.fd, it.m1, it.m2));
         let at = atomicAdd(&incoming_count[j], 1u);
         if at < INCOMING_CAPACITY {

@@ -62,6 +62,14 @@ fn integrate_drift(@builtin(global_invocation_id) id: vec3<u32>) {
         let w = walls[i];
         walls[i].point = vec4<f64>(w.point.xyz + w.velocity.xyz * params.dt, 0.0lf);
     }
+    // Empty the work lists for this step's scan (a dispatch of its own would cost as much as
+    // a small system's pass on lavapipe).
+    if i < WORK_LISTS {
+        atomicStore(&work[i], 0u);
+        atomicStore(&work_args[3u * i], 0u);
+        atomicStore(&work_args[3u * i + 1u], 1u);
+        atomicStore(&work_args[3u * i + 2u], 1u);
+    }
     if i >= params.n {
         return;
     }

@@ -338,6 +338,7 @@ fn contacts_match_their_cpu_twin() {
         Kernel::NeighboursClear,
         Kernel::Neighbours,
         Kernel::NeighboursList,
+        Kernel::ContactsScan,
         Kernel::Contacts,
     ]);
     let before = state.contacts.pair_contact_count();
@@ -383,6 +384,8 @@ fn forces_and_walls_match_their_cpu_twins() {
         &mut wall_damping,
     );
     gpu.dispatch(&[
+        Kernel::ContactsScan,
+        Kernel::ForcesCorrections,
         Kernel::Forces,
         Kernel::WallForces,
         Kernel::ReduceWalls,
@@ -435,7 +438,9 @@ fn reductions_match_their_cpu_twin_to_the_bit() {
         return;
     };
     gpu.dispatch(&[
+        Kernel::ContactsScan,
         Kernel::Contacts,
+        Kernel::ForcesCorrections,
         Kernel::Forces,
         Kernel::WallForces,
         Kernel::ReduceWalls,
@@ -534,7 +539,12 @@ fn inelastic_corrections_on_the_gpu_land_on_the_critical_lengths() {
     let Some(mut gpu) = gpu_of(&state) else {
         return;
     };
-    gpu.dispatch(&[Kernel::Forces, Kernel::WallForces]);
+    gpu.dispatch(&[
+        Kernel::ContactsScan,
+        Kernel::ForcesCorrections,
+        Kernel::Forces,
+        Kernel::WallForces,
+    ]);
     let after_table = gpu.contacts();
     let k = state.law.pair;
     let (before, before_walls) = displacements(&state, &state.contacts);

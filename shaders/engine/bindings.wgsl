@@ -72,6 +72,13 @@ const SLOT_CHUNKS_IN_USE: u32 = 3u;
 // Candidate partners j > i one monomer's list holds (within 2r + skin: about 12 at φ = 0.74).
 const NEIGHBOUR_CAPACITY: u32 = 24u;
 
+// Work lists (see `work_list`), and the workgroup size of the passes dispatched over a list
+// (one SIMD group of lavapipe).
+const WORK_CONTACTS: u32 = 0u;
+const WORK_CORRECTIONS: u32 = 1u;
+const WORK_LISTS: u32 = 2u;
+const WORK_GROUP: u32 = 8u;
+
 // Overflow and failure flags: the lowest monomer index concerned, or NO_MONOMER.
 const NO_MONOMER: u32 = 0xffffffffu;
 const FLAG_PAIR_SLOTS: u32 = 0u;
@@ -164,6 +171,19 @@ const DIAG_SIZE: u32 = 80u;
 @group(0) @binding(39) var<storage, read_write> neighbour_list: array<u32>;
 @group(0) @binding(40) var<storage, read_write> neighbour_count: array<u32>;
 @group(0) @binding(41) var<storage, read_write> reference_position: array<vec4<f64>>;
+// Work lists: the owners with contact events (contacts pass) or inelastic corrections
+// (forces_corrections) this step, found by the scans; n entries per list, in no fixed order
+// (each owner's work touches only its own slots and tally, so the order cannot change a
+// result). lavapipe runs every branch of a kernel for every invocation, masked, so rare and
+// expensive work inside a per-monomer kernel costs as if every monomer did it; dispatched
+// indirectly over its list, it costs what it does.
+@group(0) @binding(42) var<storage, read_write> work_list: array<u32>;
+// Length of each list (at WORK_CONTACTS and WORK_CORRECTIONS).
+@group(0) @binding(43) var<storage, read_write> work: array<atomic<u32>>;
+// Indirect dispatch arguments (workgroups x, y, z) of the pass that processes each list, three
+// words per list. A separate buffer: a dispatch may not bind as storage the buffer its
+// arguments come from.
+@group(0) @binding(44) var<storage, read_write> work_args: array<atomic<u32>>;
 
 // Which binding of a per-slot array holds slot index `idx`, and where: (chunk, element).
 fn slot_chunk_of(idx: u32) -> vec2<u32> {
@@ -278,4 +298,19 @@ fn add_tally(i: u32, channel: u32, value: f64) {
 
 fn flag(which: u32, monomer: u32) {
     atomicMin(&flags[which], monomer);
+}
+
+// Appends monomer `i` to work list `list` and widens the list's indirect dispatch to cover it.
+fn push_work(list: u32, i: u32) {
+    let k = atomicAdd(&work[list], 1u);
+    work_list[list * params.n + k] = i;
+    atomicMax(&work_args[3u * list], k / WORK_GROUP + 1u);
+}
+
+// Entry `k` of work list `list`, or NO_MONOMER past its end.
+fn work_item(list: u32, k: u32) -> u32 {
+    if k >= atomicLoad(&work[list]) {
+        return NO_MONOMER;
+    }
+    return work_list[list * params.n + k];
 }

@@ -6,7 +6,7 @@
 
 use super::layout::{
     GpuParams, GpuWall, DIAG_SIZE, FLAG_COUNT, INCOMING_CAPACITY, MAX_WALLS, NEIGHBOUR_CAPACITY,
-    REDUCE_BLOCK, SLOT_CHUNKS, TALLY_STRIDE,
+    REDUCE_BLOCK, SLOT_CHUNKS, TALLY_STRIDE, WORK_LISTS,
 };
 use std::fmt;
 
@@ -15,7 +15,7 @@ const VEC4: u64 = 32;
 
 /// Binding names in binding order (index = binding number of bindings.wgsl). A per-slot
 /// vector array is [`SLOT_CHUNKS`] bindings, `<array>_0` … `<array>_2`.
-pub const BINDINGS: [&str; 42] = [
+pub const BINDINGS: [&str; 45] = [
     "params",
     "walls",
     "position",
@@ -58,6 +58,9 @@ pub const BINDINGS: [&str; 42] = [
     "neighbour_list",
     "neighbour_count",
     "reference_position",
+    "work_list",
+    "work",
+    "work_args",
 ];
 
 /// The most bindings one pass uses (each pass binds only what its entry point reads or
@@ -130,7 +133,7 @@ impl Sizes {
     }
 
     /// Bytes of every binding, in binding order.
-    pub fn binding_bytes(&self) -> [u64; 42] {
+    pub fn binding_bytes(&self) -> [u64; 45] {
         let n = self.monomers as u64;
         let ws = self.wall_slots as u64;
         let ps = self.pair_slots as u64;
@@ -179,6 +182,9 @@ impl Sizes {
             n * NEIGHBOUR_CAPACITY as u64 * 4,
             n * 4,
             n * VEC4,
+            WORK_LISTS as u64 * n * 4,
+            WORK_LISTS as u64 * 4,
+            3 * WORK_LISTS as u64 * 4,
         ]
     }
 
@@ -322,7 +328,12 @@ impl Buffers {
                 device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some(name),
                     size: bytes.max(64).next_multiple_of(8),
-                    usage: STORAGE,
+                    // Indirect dispatch arguments, written on the device.
+                    usage: if *name == "work_args" {
+                        STORAGE | wgpu::BufferUsages::INDIRECT
+                    } else {
+                        STORAGE
+                    },
                     mapped_at_creation: false,
                 })
             })

@@ -1,7 +1,7 @@
 //! The GPU backend: the CPU reference's passes as WGSL compute shaders on device-resident
 //! buffers, driven by a linear step script.
 //!
-//! The host uploads the state once, then encodes `readback_every` steps (10 dispatches each,
+//! The host uploads the state once, then encodes `readback_every` steps (13 dispatches each,
 //! one compute pass) per submission and reads back only the small block: overflow flags, the
 //! wall forces (current and summed over the batch), contact counts and the energy tally. The
 //! full state comes back only on request (tests, snapshots, energy reports).
@@ -172,8 +172,10 @@ impl GpuEngine {
                     Kernel::NeighboursClear,
                     Kernel::Neighbours,
                     Kernel::NeighboursList,
+                    Kernel::ContactsScan,
                     Kernel::Contacts,
                     Kernel::ContactsClearTally,
+                    Kernel::ForcesCorrections,
                     Kernel::Forces,
                     Kernel::WallForces,
                     Kernel::ReduceWalls,
@@ -361,11 +363,21 @@ impl GpuEngine {
         self.write("neighbour_count", &vec![0u32; n]);
         self.write("reference_position", &v4(&m.position));
         self.write("diag", &[0.0f64; layout::DIAG_SIZE]);
+        // Empty lists: no entries, and dispatches of no workgroups.
+        self.write("work", &[0u32; layout::WORK_LISTS]);
+        self.write("work_args", &[0u32, 1, 1].repeat(layout::WORK_LISTS));
     }
 
     fn encode(&self, pass: &mut wgpu::ComputePass<'_>, kernels: &[Kernel]) {
         let n = self.sizes.monomers;
         for &k in kernels {
+            pass.set_pipeline(self.kernels.pipeline(k));
+            pass.set_bind_group(0, &self.bind_groups[k as usize], &[]);
+            if let Some(offset) = k.indirect_offset() {
+                // Sized on the device by the scan that filled the list.
+                pass.dispatch_workgroups_indirect(self.buffers.get("work_args"), offset);
+                continue;
+            }
             let count = match k {
                 Kernel::NeighboursClear => groups(self.sizes.table),
                 Kernel::IntegrateDrift => groups(n.max(self.walls.len())),
@@ -373,21 +385,23 @@ impl GpuEngine {
                 Kernel::ReduceWallsFinal | Kernel::ReduceDiagnostics => 1,
                 _ => groups(n),
             };
-            pass.set_pipeline(self.kernels.pipeline(k));
-            pass.set_bind_group(0, &self.bind_groups[k as usize], &[]);
             pass.dispatch_workgroups(count, 1, 1);
         }
     }
 
-    /// The dispatches of one step, in order.
-    pub const STEP: [Kernel; 11] = [
+    /// The dispatches of one step, in order. `contacts_scan` lists the owners with contact
+    /// events and those with a contact beyond an inelastic limit; `contacts` and
+    /// `forces_corrections` run over those lists only (indirect dispatches sized on the device).
+    pub const STEP: [Kernel; 13] = [
         Kernel::IntegrateKick,
         Kernel::Integrate,
         Kernel::IntegrateDrift,
         Kernel::NeighboursClear,
         Kernel::Neighbours,
         Kernel::NeighboursList,
+        Kernel::ContactsScan,
         Kernel::Contacts,
+        Kernel::ForcesCorrections,
         Kernel::Forces,
         Kernel::WallForces,
         Kernel::ReduceWalls,
@@ -455,7 +469,7 @@ impl GpuEngine {
         Ok(())
     }
 
-    /// Advances `steps` ordinary steps (one submission, at most 186) with a timestamp before
+    /// Advances `steps` ordinary steps (one submission, at most 157) with a timestamp before
     /// and after every dispatch, and returns the mean seconds per step of each kernel of
     /// [`GpuEngine::STEP`]; `None` where the device lacks timestamp queries inside passes.
     pub fn profile_passes(&mut self, steps: u32) -> Result<Option<Vec<(Kernel, f64)>>, GpuError> {

@@ -6,18 +6,21 @@
 
 use super::buffers::{Buffers, MAX_BINDINGS_PER_PASS};
 use super::context::GpuContext;
+use super::layout::{WORK_CONTACTS, WORK_CORRECTIONS};
 use super::shader::{assemble_pass, Assembled, ShaderError};
 use super::spirv::entry_bindings;
 
 /// Entry points in step order, with the pass file (without `.wgsl`) that holds each.
-pub const ENTRY_POINTS: [(&str, &str); 15] = [
+pub const ENTRY_POINTS: [(&str, &str); 17] = [
     ("integrate", "integrate_kick"),
     ("integrate", "integrate"),
     ("integrate", "integrate_drift"),
     ("neighbours", "neighbours_clear"),
     ("neighbours", "neighbours"),
     ("neighbours", "neighbours_list"),
+    ("contacts", "contacts_scan"),
     ("contacts", "contacts"),
+    ("forces", "forces_corrections"),
     ("forces", "forces"),
     ("walls", "wall_forces"),
     ("reduce", "reduce_walls"),
@@ -37,7 +40,9 @@ pub enum Kernel {
     NeighboursClear,
     Neighbours,
     NeighboursList,
+    ContactsScan,
     Contacts,
+    ForcesCorrections,
     Forces,
     WallForces,
     ReduceWalls,
@@ -46,6 +51,19 @@ pub enum Kernel {
     IntegrateStart,
     IntegrateClearWork,
     ContactsClearTally,
+}
+
+impl Kernel {
+    /// Where in the `work_args` buffer the indirect dispatch arguments of a pass dispatched
+    /// over a work list are (bytes), or `None` for a pass dispatched over the monomers.
+    pub fn indirect_offset(self) -> Option<u64> {
+        let list = match self {
+            Kernel::Contacts => WORK_CONTACTS,
+            Kernel::ForcesCorrections => WORK_CORRECTIONS,
+            _ => return None,
+        };
+        Some(12 * list as u64)
+    }
 }
 
 /// Binding numbers the entry point `entry` of an assembled pass uses, ascending.

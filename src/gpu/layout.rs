@@ -122,6 +122,13 @@ pub const INCOMING_CAPACITY: usize = 16;
 pub const REDUCE_BLOCK: usize = 64;
 pub const NEIGHBOUR_CAPACITY: usize = 24;
 pub const SLOT_CHUNKS: usize = 3;
+/// Work lists (bindings.wgsl `work_list`, lengths in `work`, indirect dispatch arguments in
+/// `work_args`, three words per list), and the workgroup size of the passes dispatched over a
+/// list.
+pub const WORK_CONTACTS: usize = 0;
+pub const WORK_CORRECTIONS: usize = 1;
+pub const WORK_LISTS: usize = 2;
+pub const WORK_GROUP: usize = 8;
 pub const DIAG_THREADS: usize = 64;
 pub const TALLY_STRIDE: usize = 8;
 pub const DIAG_PAIR_CONTACTS: usize = 8;
@@ -272,6 +279,10 @@ mod tests {
             ("FLAG_REBUILD", FLAG_REBUILD),
             ("NEIGHBOUR_CAPACITY", NEIGHBOUR_CAPACITY),
             ("SLOT_CHUNKS", SLOT_CHUNKS),
+            ("WORK_CONTACTS", WORK_CONTACTS),
+            ("WORK_CORRECTIONS", WORK_CORRECTIONS),
+            ("WORK_LISTS", WORK_LISTS),
+            ("WORK_GROUP", WORK_GROUP),
             ("NO_MONOMER", NO_MONOMER as usize),
         ] {
             assert_eq!(constant(name), value as u64, "{name}");
