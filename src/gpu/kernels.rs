@@ -1,7 +1,7 @@
 //! Compute pipelines of the engine, built once: one per entry point, each with an explicit
 //! layout holding only the bindings of shaders/engine/bindings.wgsl its entry point uses (naga
 //! says which), and one bind group per entry point built once per engine. The engine declares
-//! more storage buffers (42) than a device binds per stage (lavapipe: 32); no pass uses more
+//! more storage buffers (45) than a device binds per stage (lavapipe: 32); no pass uses more
 //! than [`MAX_BINDINGS_PER_PASS`].
 
 use super::buffers::{Buffers, MAX_BINDINGS_PER_PASS};
