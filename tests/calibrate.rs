@@ -4,9 +4,9 @@
 //! number that two effects explain is reported as a tie; the measured sticking velocity names
 //! the damping; bad measured files exit 2 with a message.
 //!
-//! All calibrations share one run cache and the same calibration seeds (1, 2, 3), so the
-//! baseline and the screen of every effect are simulated once for the whole file; synthetic
-//! data use other seeds (101–103, 201–203) and added noise.
+//! All calibrations share one run cache and the calibration seeds 1, 2, 3 (the surface-energy
+//! case adds 4, 5, 6), so the baseline and the screen of every effect are simulated once for
+//! the whole file; synthetic data use other seeds (101–106, 201–203) and added noise.
 
 use dustdem::calibrate::attribution::Decision;
 use dustdem::calibrate::measured::Geometry;
@@ -112,11 +112,6 @@ fn run_calibration(name: &str, measured: &MeasuredSet, settings: &Settings) -> C
 /// RMS gap of every curve that was beyond noise at the baseline shrinks by at least 70%, and
 /// the corrected model fits the whole data set (control curves included) within noise.
 fn assert_recovered(cal: &Calibration, effect: Effect, factor: f64) {
-    assert_recovered_except(cal, effect, factor, None);
-}
-
-/// [`assert_recovered`], with the shrink of the curve named `unheld` printed but not held to 70%.
-fn assert_recovered_except(cal: &Calibration, effect: Effect, factor: f64, unheld: Option<&str>) {
     let first = &cal.rounds[0];
     assert_eq!(first.decision, Decision::Named(effect));
     let (applied, recovered) = cal.applied[0];
@@ -131,7 +126,7 @@ fn assert_recovered_except(cal: &Calibration, effect: Effect, factor: f64, unhel
         !shrinks.is_empty(),
         "the hidden effect put a curve beyond noise"
     );
-    for c in shrinks.iter().filter(|c| Some(c.name.as_str()) != unheld) {
+    for c in &shrinks {
         assert!(
             c.shrink() >= 0.7,
             "{}: RMS gap {:.4} -> {:.4}",
@@ -216,20 +211,24 @@ fn hidden_damping_is_named_from_omni_uni_and_sticking() {
 
 #[test]
 fn hidden_surface_energy_is_named_from_omni_uni_and_sticking() {
-    // Named and recovered, but the omni curve's RMS gap shrinks by only 68% (0.034 -> 0.011):
-    // the hidden ×1.6 moves it by 2.9 times its noise floor (0.012), and what is left after the
-    // fit is that floor. (×2 on omni and sticking data: 69%; there the precise sticking
-    // velocity pins γ 8% low and the omni curve keeps the difference.) This case meets the 70%
-    // on the sticking velocity only; the omni shrink is printed, not asserted (README).
+    // Surface energy moves the omni curve by only a few times its noise floor, and a curve can
+    // show a 70% shrink of its RMS gap only if its baseline gap is at least 1/0.3 of that floor
+    // (with three seeds: 0.034 against 0.012, 68%). Six samples per curve, for the data and
+    // for the calibration, lower the floor to 0.0096; the uni curve stays within noise (a
+    // control) and the sticking velocity is the second curve the effect has to fix.
     let hidden = (Effect::SurfaceEnergy, 1.6);
     let m = synthetic(
         "gamma",
         Some(hidden),
         &[Geometry::Omni, Geometry::Uni],
-        &[101, 102, 103],
+        &[101, 102, 103, 104, 105, 106],
     );
-    let cal = run_calibration("gamma", &m, &settings());
-    assert_recovered_except(&cal, hidden.0, hidden.1, Some("omni (synthetic)"));
+    let six = Settings {
+        seeds: vec![1, 2, 3, 4, 5, 6],
+        ..settings()
+    };
+    let cal = run_calibration("gamma", &m, &six);
+    assert_recovered(&cal, hidden.0, hidden.1);
 }
 
 #[test]
