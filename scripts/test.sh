@@ -1,15 +1,38 @@
 #!/usr/bin/env bash
 # Runs the test suite. Installs Mesa's software Vulkan driver (lavapipe) and the Vulkan loader
 # first when they are missing and apt is available, so GPU tests can run without a GPU.
+#
+# On Debian 12 lavapipe comes from bookworm-backports (Mesa 25) when that suite can be reached:
+# Mesa 22.3's lavapipe, the stock one, runs our compute shaders about three times slower (it
+# compiles every storage-buffer access into a loop over the SIMD lanes; see DESIGN.md). The
+# stock package is the fallback; the tests pass on both.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+install_lavapipe() {
+  local sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo="sudo"
+  local packages=(mesa-vulkan-drivers libvulkan1)
+  $sudo apt-get update -q
+  if grep -q '^VERSION_CODENAME=bookworm$' /etc/os-release 2>/dev/null; then
+    if ! grep -rqs 'bookworm-backports' /etc/apt/sources.list /etc/apt/sources.list.d/; then
+      printf '%s\n' 'Types: deb' 'URIs: http://deb.debian.org/debian' \
+        'Suites: bookworm-backports' 'Components: main' \
+        'Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg' |
+        $sudo tee /etc/apt/sources.list.d/dustdem-bookworm-backports.sources >/dev/null
+      $sudo apt-get update -q || true
+    fi
+    if DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q -t bookworm-backports "${packages[@]}"; then
+      return
+    fi
+    echo "note: lavapipe from bookworm-backports failed; installing Debian 12's own" >&2
+  fi
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q "${packages[@]}"
+}
+
 if ! ldconfig -p 2>/dev/null | grep -q libvulkan.so.1 || ! ls /usr/share/vulkan/icd.d/lvp_icd*.json >/dev/null 2>&1; then
   if command -v apt-get >/dev/null 2>&1; then
-    SUDO=""
-    [ "$(id -u)" -ne 0 ] && SUDO="sudo"
-    $SUDO apt-get update -q
-    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q mesa-vulkan-drivers libvulkan1
+    install_lavapipe
   else
     echo "note: no apt-get; install Mesa's Vulkan drivers (lavapipe) yourself for the GPU tests" >&2
   fi

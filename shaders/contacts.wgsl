@@ -95,13 +95,21 @@ fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
     }
 }
 
-// The events of the owners `contacts_scan` listed (dispatched indirectly over that list).
+// The events of the owners `contacts_scan` listed (dispatched indirectly over that list; each
+// invocation takes every stride-th entry, as the dispatch holds at most work_groups_max groups).
 @compute @workgroup_size(8)
-fn contacts(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = work_item(WORK_CONTACTS, id.x);
-    if i == NO_MONOMER {
-        return;
+fn contacts(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+) {
+    let stride = groups.x * WORK_GROUP;
+    for (var k = id.x; k < work_length(WORK_CONTACTS); k += stride) {
+        contact_events(work_item(WORK_CONTACTS, k));
     }
+}
+
+// Breaks and forms the contacts of owner `i`.
+fn contact_events(i: u32) {
     let r = params.radius;
     let x = position[i].xyz;
     let base = i * params.pair_slots;

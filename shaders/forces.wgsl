@@ -20,12 +20,21 @@
 
 // apply_inelastic_limits for the contacts of the owners `contacts_scan` listed: rolling,
 // sliding, twisting, each booked per channel as the drop of the contact's step energy.
+// Each invocation takes every stride-th entry, as the dispatch holds at most work_groups_max
+// groups.
 @compute @workgroup_size(8)
-fn forces_corrections(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = work_item(WORK_CORRECTIONS, id.x);
-    if i == NO_MONOMER {
-        return;
+fn forces_corrections(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+) {
+    let stride = groups.x * WORK_GROUP;
+    for (var k = id.x; k < work_length(WORK_CORRECTIONS); k += stride) {
+        apply_inelastic_limits(work_item(WORK_CORRECTIONS, k));
     }
+}
+
+// The corrections of owner `i`'s contacts.
+fn apply_inelastic_limits(i: u32) {
     let k = params.pair;
     let r = params.radius;
     let x1 = position[i].xyz;

@@ -593,3 +593,70 @@ fn inelastic_corrections_on_the_gpu_land_on_the_critical_lengths() {
         }
     }
 }
+
+#[test]
+fn per_slot_arrays_in_one_binding_or_split_over_three_give_the_same_bits() {
+    // Large N (above 349 525 with 12 slots) split every per-slot array over three bindings;
+    // smaller N keep them in one, and the tests above hold that layout to the CPU. Both
+    // layouts, run 50 steps from the crafted aggregate, must agree to the bit.
+    let state = crafted().cpu;
+    let Some(ctx) = context_for_tests() else {
+        return;
+    };
+    let engine = |ctx, split| {
+        GpuEngine::with_state_laid_out(
+            ctx,
+            state.law,
+            state.dt,
+            &state.monomers,
+            &state.contacts,
+            state.walls.clone(),
+            split,
+        )
+        .unwrap()
+    };
+    let mut one = engine(ctx, false);
+    let mut split = engine(context_for_tests().unwrap(), true);
+    assert!(one.sizes.one_slot_chunk() && !split.sizes.one_slot_chunk());
+    one.run(50).unwrap();
+    split.run(50).unwrap();
+    assert_eq!(one.monomers(), split.monomers());
+    assert_eq!(one.contacts(), split.contacts());
+    assert!(one.contacts().pair_contact_count() > 0);
+}
+
+#[test]
+fn work_lists_longer_than_one_dispatch_are_walked_with_a_stride() {
+    // A pass over a work list has at most the device's workgroups per dimension (65 535 of 8
+    // invocations); longer lists (N > 524 280, e.g. forming a 10⁶-monomer sample's first
+    // contacts) are walked with a stride. Here the limit is one workgroup, and the crafted
+    // aggregate starts with no contacts, so the first step lists every touching owner: the
+    // result must equal the unlimited engine's to the bit.
+    let mut state = crafted().cpu;
+    let t = &state.contacts;
+    state.contacts = ContactTable::new(state.monomers.len(), t.pair_slots, t.wall_slots);
+    let engine = |ctx| {
+        GpuEngine::with_state(
+            ctx,
+            state.law,
+            state.dt,
+            &state.monomers,
+            &state.contacts,
+            state.walls.clone(),
+        )
+        .unwrap()
+    };
+    let Some(ctx) = context_for_tests() else {
+        return;
+    };
+    let mut plain = engine(ctx);
+    let mut limited = engine(context_for_tests().unwrap());
+    limited.limit_work_groups(1);
+    plain.run(20).unwrap();
+    limited.run(20).unwrap();
+    let formed = plain.contacts().pair_contact_count();
+    eprintln!("{formed} pair contacts formed");
+    assert!(formed > 100, "the first step formed many contacts");
+    assert_eq!(plain.contacts(), limited.contacts());
+    assert_eq!(plain.monomers(), limited.monomers());
+}

@@ -35,6 +35,9 @@ struct Params {
     damping_kind: u32,
     // Elements in each binding of a per-slot vector array (see load_pair_n1).
     slot_chunk: u32,
+    // Most workgroups a pass over a work list is dispatched with (see push_work).
+    work_groups_max: u32,
+    _pad: u32,
     dt: f64,
     radius: f64,
     inverse_mass: f64,
@@ -300,17 +303,21 @@ fn flag(which: u32, monomer: u32) {
     atomicMin(&flags[which], monomer);
 }
 
-// Appends monomer `i` to work list `list` and widens the list's indirect dispatch to cover it.
+// Appends monomer `i` to work list `list` and widens the list's indirect dispatch to cover it,
+// up to params.work_groups_max workgroups (a dispatch may have no more per dimension; a longer
+// list is walked with a stride, see work_item).
 fn push_work(list: u32, i: u32) {
     let k = atomicAdd(&work[list], 1u);
     work_list[list * params.n + k] = i;
-    atomicMax(&work_args[3u * list], k / WORK_GROUP + 1u);
+    atomicMax(&work_args[3u * list], min(k / WORK_GROUP + 1u, params.work_groups_max));
 }
 
-// Entry `k` of work list `list`, or NO_MONOMER past its end.
+// Length of work list `list`.
+fn work_length(list: u32) -> u32 {
+    return atomicLoad(&work[list]);
+}
+
+// Entry `k` of work list `list`.
 fn work_item(list: u32, k: u32) -> u32 {
-    if k >= atomicLoad(&work[list]) {
-        return NO_MONOMER;
-    }
     return work_list[list * params.n + k];
 }

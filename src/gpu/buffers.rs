@@ -81,6 +81,9 @@ pub struct Sizes {
     pub table: usize,
     /// Ids per bucket.
     pub bucket_capacity: usize,
+    /// Per-slot arrays over three bindings even where they fit one (what N > 349 525 needs
+    /// with 12 slots); tests use it to hold that layout to the other.
+    pub split_slots: bool,
 }
 
 /// Ids one bucket of the cell table holds. Cells have edge 2.2r, so a cell holds at most ~6
@@ -100,6 +103,7 @@ impl Sizes {
             wall_slots,
             table: (2 * monomers.max(1)).next_power_of_two(),
             bucket_capacity: DEFAULT_BUCKET_CAPACITY,
+            split_slots: false,
         }
     }
 
@@ -107,7 +111,7 @@ impl Sizes {
     /// with one chunk and the chunk selection folds away: lavapipe runs both sides of every
     /// branch, so three-way selection costs three loads per access.
     pub fn one_slot_chunk(&self) -> bool {
-        self.monomers * self.pair_slots <= ONE_CHUNK_CAPACITY
+        !self.split_slots && self.monomers * self.pair_slots <= ONE_CHUNK_CAPACITY
     }
 
     /// Vectors in each binding of a per-slot array: all N · pair_slots slots in the first

@@ -125,6 +125,8 @@ pub struct GpuEngine {
     /// device (cheaper than reading them back).
     pub walls: Vec<Wall>,
     pub sizes: Sizes,
+    /// Most workgroups of a pass over a work list: the device's limit per dimension.
+    work_groups_max: u32,
     kernels: Kernels,
     buffers: Buffers,
     /// One per entry point, in kernels::ENTRY_POINTS order.
@@ -202,13 +204,31 @@ impl GpuEngine {
         table: &ContactTable,
         walls: Vec<Wall>,
     ) -> Result<Self, GpuError> {
-        let sizes = Sizes::new(
-            monomers.len(),
-            walls.len(),
-            table.pair_slots,
-            table.wall_slots,
-        );
+        Self::with_state_laid_out(ctx, law, dt, monomers, table, walls, false)
+    }
+
+    /// [`GpuEngine::with_state`] with the per-slot arrays split over three bindings even where
+    /// they fit one (`Sizes::split_slots`): the layout large N need, for tests at small N.
+    pub fn with_state_laid_out(
+        ctx: GpuContext,
+        law: ContactLaw,
+        dt: f64,
+        monomers: &Monomers,
+        table: &ContactTable,
+        walls: Vec<Wall>,
+        split_slots: bool,
+    ) -> Result<Self, GpuError> {
+        let sizes = Sizes {
+            split_slots,
+            ..Sizes::new(
+                monomers.len(),
+                walls.len(),
+                table.pair_slots,
+                table.wall_slots,
+            )
+        };
         sizes.check(&ctx.device.limits())?;
+        let work_groups_max = ctx.device.limits().max_compute_workgroups_per_dimension;
         let kernels = Kernels::new(&ctx, sizes.one_slot_chunk())?;
         let buffers = Buffers::new(&ctx.device, sizes);
         let bind_groups = kernels.bind_groups(&ctx.device, &buffers);
@@ -217,6 +237,7 @@ impl GpuEngine {
             law,
             dt,
             walls,
+            work_groups_max,
             sizes,
             kernels,
             buffers,
@@ -263,6 +284,8 @@ impl GpuEngine {
             bucket_capacity: self.sizes.bucket_capacity as u32,
             damping_kind: damping.kind,
             slot_chunk: self.sizes.slot_chunk() as u32,
+            work_groups_max: self.work_groups_max,
+            _pad: 0,
             dt: self.dt,
             radius: law.radius,
             inverse_mass: 1.0 / law.mass,
@@ -387,6 +410,13 @@ impl GpuEngine {
             };
             pass.dispatch_workgroups(count, 1, 1);
         }
+    }
+
+    /// Lowers the most workgroups a pass over a work list is dispatched with, so that tests
+    /// on small systems walk the lists with a stride as the largest systems do.
+    pub fn limit_work_groups(&mut self, max: u32) {
+        self.work_groups_max = max.clamp(1, self.work_groups_max);
+        self.write("params", &[self.params()]);
     }
 
     /// The dispatches of one step, in order. `contacts_scan` lists the owners with contact

@@ -91,6 +91,10 @@ pub struct GpuParams {
     pub damping_kind: u32,
     /// Elements in each binding of a per-slot vector array.
     pub slot_chunk: u32,
+    /// Most workgroups a pass over a work list is dispatched with (the device's limit per
+    /// dimension); longer lists are walked with a stride.
+    pub work_groups_max: u32,
+    pub _pad: u32,
     pub dt: f64,
     pub radius: f64,
     pub inverse_mass: f64,
@@ -102,7 +106,7 @@ pub struct GpuParams {
     pub pair: GpuConstants,
 }
 
-const _: () = assert!(std::mem::size_of::<GpuParams>() == 192);
+const _: () = assert!(std::mem::size_of::<GpuParams>() == 200);
 
 /// The WGSL `Wall` struct of shaders/engine/bindings.wgsl (vectors as vec4, w unused).
 #[repr(C)]
@@ -228,6 +232,8 @@ mod tests {
                 bucket_capacity,
                 damping_kind,
                 slot_chunk,
+                work_groups_max,
+                _pad,
                 dt,
                 radius,
                 inverse_mass,
