@@ -193,15 +193,21 @@ fn crafted() -> Crafted {
 }
 
 fn gpu_of(state: &CpuEngine) -> Option<GpuEngine> {
+    gpu_laid_out(state, false)
+}
+
+/// The engine holding `state`, with its per-slot arrays split over three bindings if `split`.
+fn gpu_laid_out(state: &CpuEngine, split: bool) -> Option<GpuEngine> {
     let ctx = context_for_tests()?;
     Some(
-        GpuEngine::with_state(
+        GpuEngine::with_state_laid_out(
             ctx,
             state.law,
             state.dt,
             &state.monomers,
             &state.contacts,
             state.walls.clone(),
+            split,
         )
         .unwrap(),
     )
@@ -600,23 +606,11 @@ fn per_slot_arrays_in_one_binding_or_split_over_three_give_the_same_bits() {
     // smaller N keep them in one, and the tests above hold that layout to the CPU. Both
     // layouts, run 50 steps from the crafted aggregate, must agree to the bit.
     let state = crafted().cpu;
-    let Some(ctx) = context_for_tests() else {
+    let (Some(mut one), Some(mut split)) =
+        (gpu_laid_out(&state, false), gpu_laid_out(&state, true))
+    else {
         return;
     };
-    let engine = |ctx, split| {
-        GpuEngine::with_state_laid_out(
-            ctx,
-            state.law,
-            state.dt,
-            &state.monomers,
-            &state.contacts,
-            state.walls.clone(),
-            split,
-        )
-        .unwrap()
-    };
-    let mut one = engine(ctx, false);
-    let mut split = engine(context_for_tests().unwrap(), true);
     assert!(one.sizes.one_slot_chunk() && !split.sizes.one_slot_chunk());
     one.run(50).unwrap();
     split.run(50).unwrap();
@@ -635,22 +629,9 @@ fn work_lists_longer_than_one_dispatch_are_walked_with_a_stride() {
     let mut state = crafted().cpu;
     let t = &state.contacts;
     state.contacts = ContactTable::new(state.monomers.len(), t.pair_slots, t.wall_slots);
-    let engine = |ctx| {
-        GpuEngine::with_state(
-            ctx,
-            state.law,
-            state.dt,
-            &state.monomers,
-            &state.contacts,
-            state.walls.clone(),
-        )
-        .unwrap()
-    };
-    let Some(ctx) = context_for_tests() else {
+    let (Some(mut plain), Some(mut limited)) = (gpu_of(&state), gpu_of(&state)) else {
         return;
     };
-    let mut plain = engine(ctx);
-    let mut limited = engine(context_for_tests().unwrap());
     limited.limit_work_groups(1);
     plain.run(20).unwrap();
     limited.run(20).unwrap();
