@@ -55,6 +55,9 @@ fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
     // Every neighbour pass of this step is done: the lists are fresh.
     if i == 0u {
         atomicStore(&flags[FLAG_REBUILD], NO_MONOMER);
+        // contacts_list refills the pair-contact list after this step's events.
+        atomicStore(&work[WORK_PAIRS], 0u);
+        atomicStore(&work_args[3u * WORK_PAIRS], 0u);
     }
     if i >= params.n {
         return;
@@ -74,8 +77,8 @@ fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
     let wcount = wall_count[i];
     for (var slot = 0u; slot < wcount; slot++) {
         let w = wall_id[i * params.wall_slots + slot];
-        let delta = wall_overlap(x, walls[w].point.xyz, walls[w].normal.xyz, r);
-        event = event || delta < -walls[w].k.delta_c;
+        let delta = wall_overlap(x, wall_table[w].point.xyz, wall_table[w].normal.xyz, r);
+        event = event || delta < -wall_table[w].k.delta_c;
     }
     let list = i * NEIGHBOUR_CAPACITY;
     for (var k = 0u; k < neighbour_count[i]; k++) {
@@ -138,7 +141,7 @@ fn contact_events(i: u32) {
     slot = 0u;
     while slot < wcount {
         let idx = wall_base + slot;
-        let w = walls[wall_id[idx]];
+        let w = wall_table[wall_id[idx]];
         let delta = wall_overlap(x, w.point.xyz, w.normal.xyz, r);
         if delta < -w.k.delta_c {
             let a = wall_n1[idx];
@@ -201,6 +204,20 @@ fn contact_events(i: u32) {
         wcount += 1u;
     }
     wall_count[i] = wcount;
+}
+
+// Lists every pair contact for the contact-parallel passes, after the contact events (the
+// scan emptied the list).
+@compute @workgroup_size(64)
+fn contacts_list(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= params.n {
+        return;
+    }
+    let count = pair_count[i];
+    if count > 0u {
+        push_pairs(i, count);
+    }
 }
 
 // Contacts present at the start are part of the initial state, not a dissipation

@@ -4,8 +4,8 @@
 // first (booked per channel as the drop of the contact's step energy), then JKR, damping,
 // rolling, sliding and twisting.
 //
-// WGSL has no f64 atomics, so the pass does not add into the monomers' accumulators. Each owner
-// invocation evaluates its contacts where their history lives, stores the result per slot and
+// WGSL has no f64 atomics, so the pass does not add into the monomers' accumulators. Each
+// invocation evaluates one contact where its history lives, stores the result per slot and
 // registers the slot with the partner (`incoming`); the walls pass then gathers per monomer in
 // the CPU's order (incoming by owner index, then the monomer's own slots), deterministic and
 // bit-identical to the CPU sums.
@@ -73,27 +73,36 @@ fn apply_inelastic_limits(i: u32) {
     }
 }
 
-// JKR, damping, rolling, sliding and twisting of every contact, after the corrections.
+// JKR, damping, rolling, sliding and twisting of every pair contact, after the corrections: one
+// invocation per contact (the list contacts_list built after this step's events; each
+// invocation takes every stride-th entry, as a dispatch holds at most work_groups_max groups).
 @compute @workgroup_size(64)
-fn forces(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.x;
-    if i >= params.n {
-        return;
+fn forces(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+) {
+    let stride = groups.x * PAIR_GROUP;
+    for (var k = id.x; k < work_length(WORK_PAIRS); k += stride) {
+        contact_forces(contact_list[k]);
     }
-    let x1 = position[i].xyz;
-    let v1 = velocity[i].xyz;
-    for (var slot = 0u; slot < pair_count[i]; slot++) {
-        let idx = i * params.pair_slots + slot;
-        let j = pair_partner[idx];
-        let stored_n1 = load_pair_n1(idx);
-        let n2 = load_pair_n2(idx).xyz;
-        let it = pair_interaction(x1, position[j].xyz, v1, velocity[j].xyz, stored_n1.xyz, n2, stored_n1.w);
-        store_pair_result(idx, PairResult(it.f, it.fd, it.m1, it.m2));
-        let at = atomicAdd(&incoming_count[j], 1u);
-        if at < INCOMING_CAPACITY {
-            incoming[j * INCOMING_CAPACITY + at] = idx;
-        } else {
-            flag(FLAG_INCOMING, j);
-        }
+}
+
+// The forces of the pair contact in slot `idx`, stored with the slot and registered with the
+// partner.
+fn contact_forces(idx: u32) {
+    let i = idx / params.pair_slots;
+    let j = pair_partner[idx];
+    let stored_n1 = load_pair_n1(idx);
+    let n2 = load_pair_n2(idx).xyz;
+    let it = pair_interaction(
+        position[i].xyz, position[j].xyz, velocity[i].xyz, velocity[j].xyz,
+        stored_n1.xyz, n2, stored_n1.w,
+    );
+    store_pair_result(idx, PairResult(it.f, it.fd, it.m1, it.m2));
+    let at = atomicAdd(&incoming_count[j], 1u);
+    if at < INCOMING_CAPACITY {
+        incoming[j * INCOMING_CAPACITY + at] = idx;
+    } else {
+        flag(FLAG_INCOMING, j);
     }
 }

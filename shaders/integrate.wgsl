@@ -7,7 +7,8 @@
 // The CPU does this in three loops over the monomers, and the contact loop reads the partner's
 // kicked velocity and its position before the drift. On the device the loops are three entry
 // points (three dispatches), because a dispatch boundary is the only barrier between
-// invocations: integrate_kick, integrate (pointers and twist, per owner), integrate_drift.
+// invocations: integrate_kick (with the wall contacts' pointers, which need only the monomer's
+// own spin), integrate_pairs (pair pointers and twist, per contact), integrate_drift.
 // integrate_start is the half-step shift of the initial velocities (CpuEngine::new).
 
 @compute @workgroup_size(64)
@@ -16,55 +17,65 @@ fn integrate_kick(@builtin(global_invocation_id) id: vec3<u32>) {
     if i >= params.n {
         return;
     }
+    let dt = params.dt;
     let s = aux[i];
-    let v = velocity[i].xyz + force[i].xyz * (params.dt * params.inverse_mass * s.x);
-    let w = angular_velocity[i].xyz + torque[i].xyz * (params.dt * params.inverse_inertia * s.y);
+    let v = velocity[i].xyz + force[i].xyz * (dt * params.inverse_mass * s.x);
+    let w = angular_velocity[i].xyz + torque[i].xyz * (dt * params.inverse_inertia * s.y);
     velocity[i] = vec4<f64>(v, 0.0lf);
     angular_velocity[i] = vec4<f64>(w, 0.0lf);
-}
-
-@compute @workgroup_size(64)
-fn integrate(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.x;
-    if i >= params.n {
-        return;
-    }
-    let dt = params.dt;
-    let xi = position[i].xyz;
-    let vi = velocity[i].xyz;
-    let wi = angular_velocity[i].xyz;
-    let turn_i = wi * dt;
-    for (var slot = 0u; slot < pair_count[i]; slot++) {
-        let idx = i * params.pair_slots + slot;
-        let j = pair_partner[idx];
-        let a = load_pair_n1(idx);
-        let b = load_pair_n2(idx);
-        let wj = angular_velocity[j].xyz;
-        // Contact normal at mid-step, x(n+½) = x(n) + v(n+½) dt/2.
-        let nc_mid = vec_normalize((xi - position[j].xyz) + (vi - velocity[j].xyz) * (0.5lf * dt));
-        let twist = a.w + twist_increment(wi - wj, nc_mid, dt);
-        store_pair_n1(idx, vec4<f64>(rotate_pointer(a.xyz, turn_i), twist));
-        store_pair_n2(idx, vec4<f64>(rotate_pointer(b.xyz, wj * dt), 0.0lf));
-    }
+    // Wall contacts need only the monomer's own mid-step spin.
+    let turn = w * dt;
     for (var slot = 0u; slot < wall_count[i]; slot++) {
         let idx = i * params.wall_slots + slot;
         let a = wall_n1[idx];
-        let normal = walls[wall_id[idx]].normal.xyz;
-        let twist = a.w + twist_increment(wi, normal, dt);
-        wall_n1[idx] = vec4<f64>(rotate_pointer(a.xyz, turn_i), twist);
+        let normal = wall_table[wall_id[idx]].normal.xyz;
+        let twist = a.w + twist_increment(w, normal, dt);
+        wall_n1[idx] = vec4<f64>(rotate_pointer(a.xyz, turn), twist);
     }
+}
+
+// One invocation per pair contact (the list contacts_list built after the last contact
+// events; each invocation takes every stride-th entry, as a dispatch holds at most
+// work_groups_max groups).
+@compute @workgroup_size(64)
+fn integrate_pairs(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+) {
+    let stride = groups.x * PAIR_GROUP;
+    for (var k = id.x; k < work_length(WORK_PAIRS); k += stride) {
+        turn_pair_pointers(contact_list[k]);
+    }
+}
+
+// Turns both pointers of the pair contact in slot `idx` and advances its twist integral.
+fn turn_pair_pointers(idx: u32) {
+    let dt = params.dt;
+    let i = idx / params.pair_slots;
+    let j = pair_partner[idx];
+    let wi = angular_velocity[i].xyz;
+    let wj = angular_velocity[j].xyz;
+    let a = load_pair_n1(idx);
+    let b = load_pair_n2(idx);
+    // Contact normal at mid-step, x(n+½) = x(n) + v(n+½) dt/2.
+    let nc_mid = vec_normalize(
+        (position[i].xyz - position[j].xyz) + (velocity[i].xyz - velocity[j].xyz) * (0.5lf * dt)
+    );
+    let twist = a.w + twist_increment(wi - wj, nc_mid, dt);
+    store_pair_n1(idx, vec4<f64>(rotate_pointer(a.xyz, wi * dt), twist));
+    store_pair_n2(idx, vec4<f64>(rotate_pointer(b.xyz, wj * dt), 0.0lf));
 }
 
 @compute @workgroup_size(64)
 fn integrate_drift(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     if i < params.wall_count {
-        let w = walls[i];
-        walls[i].point = vec4<f64>(w.point.xyz + w.velocity.xyz * params.dt, 0.0lf);
+        let w = moving_walls[i];
+        moving_walls[i].point = vec4<f64>(w.point.xyz + w.velocity.xyz * params.dt, 0.0lf);
     }
     // Empty the work lists for this step's scan (a dispatch of its own would cost as much as
     // a small system's pass on lavapipe).
-    if i < WORK_LISTS {
+    if i < EVENT_LISTS {
         atomicStore(&work[i], 0u);
         atomicStore(&work_args[3u * i], 0u);
         atomicStore(&work_args[3u * i + 1u], 1u);

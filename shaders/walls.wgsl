@@ -59,7 +59,7 @@ fn wall_forces(@builtin(global_invocation_id) id: vec3<u32>) {
     var damping_power = 0.0lf;
     for (var slot = 0u; slot < wall_count[i]; slot++) {
         let idx = i * params.wall_slots + slot;
-        let wall = walls[wall_id[idx]];
+        let wall = wall_table[wall_id[idx]];
         let k = wall.k;
         let normal = wall.normal.xyz;
         var n1 = wall_n1[idx].xyz;

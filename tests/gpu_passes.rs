@@ -298,7 +298,7 @@ fn integrate_matches_its_cpu_twin() {
     );
     gpu.dispatch(&[
         Kernel::IntegrateKick,
-        Kernel::Integrate,
+        Kernel::IntegratePairs,
         Kernel::IntegrateDrift,
     ]);
     let tol = if exact(&gpu) { 0.0 } else { 1e-14 };
@@ -346,6 +346,7 @@ fn contacts_match_their_cpu_twin() {
         Kernel::NeighboursList,
         Kernel::ContactsScan,
         Kernel::Contacts,
+        Kernel::ContactsList,
     ]);
     let before = state.contacts.pair_contact_count();
     eprintln!(
@@ -391,6 +392,7 @@ fn forces_and_walls_match_their_cpu_twins() {
     );
     gpu.dispatch(&[
         Kernel::ContactsScan,
+        Kernel::ContactsList,
         Kernel::ForcesCorrections,
         Kernel::Forces,
         Kernel::WallForces,
@@ -446,6 +448,7 @@ fn reductions_match_their_cpu_twin_to_the_bit() {
     gpu.dispatch(&[
         Kernel::ContactsScan,
         Kernel::Contacts,
+        Kernel::ContactsList,
         Kernel::ForcesCorrections,
         Kernel::Forces,
         Kernel::WallForces,
@@ -547,6 +550,7 @@ fn inelastic_corrections_on_the_gpu_land_on_the_critical_lengths() {
     };
     gpu.dispatch(&[
         Kernel::ContactsScan,
+        Kernel::ContactsList,
         Kernel::ForcesCorrections,
         Kernel::Forces,
         Kernel::WallForces,

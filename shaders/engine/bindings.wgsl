@@ -38,6 +38,9 @@ struct Params {
     // Most workgroups a pass over a work list is dispatched with (see push_work).
     work_groups_max: u32,
     _pad: u32,
+    // Keeps `pair` 16-byte aligned, as a uniform buffer requires.
+    _pad2: u32,
+    _pad3: u32,
     dt: f64,
     radius: f64,
     inverse_mass: f64,
@@ -79,8 +82,14 @@ const NEIGHBOUR_CAPACITY: u32 = 24u;
 // (one SIMD group of lavapipe).
 const WORK_CONTACTS: u32 = 0u;
 const WORK_CORRECTIONS: u32 = 1u;
-const WORK_LISTS: u32 = 2u;
+// The pair contacts (slot indices), for the passes that run one invocation per contact.
+const WORK_PAIRS: u32 = 2u;
+const WORK_LISTS: u32 = 3u;
+// The lists contacts_scan fills and integrate_drift empties (in `work_list`).
+const EVENT_LISTS: u32 = 2u;
 const WORK_GROUP: u32 = 8u;
+// Workgroup size of the passes over the pair-contact list.
+const PAIR_GROUP: u32 = 64u;
 
 // Overflow and failure flags: the lowest monomer index concerned, or NO_MONOMER.
 const NO_MONOMER: u32 = 0xffffffffu;
@@ -114,8 +123,14 @@ const DIAG_WALL_FORCE: u32 = 16u;
 const DIAG_WALL_FORCE_SUM: u32 = 48u;
 const DIAG_SIZE: u32 = 80u;
 
-@group(0) @binding(0) var<storage, read_write> params: Params;
-@group(0) @binding(1) var<storage, read_write> walls: array<Wall>;
+@group(0) @binding(0) var<uniform> params: Params;
+// The walls, declared three ways over one buffer (gpu::buffers::ALIASES). Indexed by a wall
+// number every invocation shares (a loop over the walls): `walls`, a uniform, which llvmpipe
+// loads once per SIMD group where it loads storage lane by lane. Indexed by a wall number of
+// the invocation's own (a wall contact's `wall_id`): `wall_table`, read-only storage, as a
+// uniform read at a per-lane index was slower still. integrate_drift moves the walls through
+// `moving_walls`, writable storage.
+@group(0) @binding(1) var<uniform> walls: array<Wall, MAX_WALLS>;
 @group(0) @binding(2) var<storage, read_write> position: array<vec4<f64>>;
 @group(0) @binding(3) var<storage, read_write> velocity: array<vec4<f64>>;
 @group(0) @binding(4) var<storage, read_write> angular_velocity: array<vec4<f64>>;
@@ -187,6 +202,17 @@ const DIAG_SIZE: u32 = 80u;
 // words per list. A separate buffer: a dispatch may not bind as storage the buffer its
 // arguments come from.
 @group(0) @binding(44) var<storage, read_write> work_args: array<atomic<u32>>;
+// The buffer of `walls`, writable, for integrate_drift only, and read-only for a per-invocation
+// wall index (see `walls`).
+@group(0) @binding(45) var<storage, read_write> moving_walls: array<Wall>;
+@group(0) @binding(46) var<storage, read> wall_table: array<Wall>;
+// Every pair contact's slot index (owner · pair_slots + slot), its length in work[WORK_PAIRS]:
+// the contact-parallel passes (integrate_pairs, forces) run one invocation per entry. Built
+// after each step's contact events by contacts_list, in no fixed order (each contact's work
+// touches only its own slot). An owner's loop over its slots keeps most of lavapipe's SIMD
+// lanes idle (an owner has about one contact, the group runs as many rounds as its busiest
+// lane); a list of contacts keeps them all busy.
+@group(0) @binding(47) var<storage, read_write> contact_list: array<u32>;
 
 // Which binding of a per-slot array holds slot index `idx`, and where: (chunk, element).
 fn slot_chunk_of(idx: u32) -> vec2<u32> {
@@ -310,6 +336,18 @@ fn push_work(list: u32, i: u32) {
     let k = atomicAdd(&work[list], 1u);
     work_list[list * params.n + k] = i;
     atomicMax(&work_args[3u * list], min(k / WORK_GROUP + 1u, params.work_groups_max));
+}
+
+// Appends the `count` slots of owner `i` to the pair-contact list and widens the list's
+// indirect dispatch to cover them (up to params.work_groups_max groups; longer lists are walked
+// with a stride).
+fn push_pairs(i: u32, count: u32) {
+    let at = atomicAdd(&work[WORK_PAIRS], count);
+    for (var slot = 0u; slot < count; slot++) {
+        contact_list[at + slot] = i * params.pair_slots + slot;
+    }
+    let groups = (at + count + PAIR_GROUP - 1u) / PAIR_GROUP;
+    atomicMax(&work_args[3u * WORK_PAIRS], min(groups, params.work_groups_max));
 }
 
 // Length of work list `list`.

@@ -6,7 +6,7 @@
 
 use super::layout::{
     GpuParams, GpuWall, DIAG_SIZE, FLAG_COUNT, INCOMING_CAPACITY, MAX_WALLS, NEIGHBOUR_CAPACITY,
-    REDUCE_BLOCK, SLOT_CHUNKS, TALLY_STRIDE, WORK_LISTS,
+    REDUCE_BLOCK, SLOT_CHUNKS, TALLY_STRIDE, EVENT_LISTS, WORK_LISTS,
 };
 use std::fmt;
 
@@ -15,7 +15,7 @@ const VEC4: u64 = 32;
 
 /// Binding names in binding order (index = binding number of bindings.wgsl). A per-slot
 /// vector array is [`SLOT_CHUNKS`] bindings, `<array>_0` … `<array>_2`.
-pub const BINDINGS: [&str; 45] = [
+pub const BINDINGS: [&str; 48] = [
     "params",
     "walls",
     "position",
@@ -61,7 +61,17 @@ pub const BINDINGS: [&str; 45] = [
     "work_list",
     "work",
     "work_args",
+    "moving_walls",
+    "wall_table",
+    "contact_list",
 ];
+
+/// Bindings that are another binding's buffer under a second declaration: (alias, buffer).
+/// `walls` is declared three ways (bindings.wgsl): uniform for a wall index the same in every
+/// invocation, read-only storage (`wall_table`) for a wall index that differs between
+/// invocations, and writable storage (`moving_walls`) for the drift, which may not bind it
+/// otherwise in the same dispatch.
+pub const ALIASES: [(&str, &str); 2] = [("moving_walls", "walls"), ("wall_table", "walls")];
 
 /// The most bindings one pass uses (each pass binds only what its entry point reads or
 /// writes; `kernels::tests` derives this from the shaders with naga).
@@ -137,7 +147,7 @@ impl Sizes {
     }
 
     /// Bytes of every binding, in binding order.
-    pub fn binding_bytes(&self) -> [u64; 45] {
+    pub fn binding_bytes(&self) -> [u64; 48] {
         let n = self.monomers as u64;
         let ws = self.wall_slots as u64;
         let ps = self.pair_slots as u64;
@@ -145,7 +155,8 @@ impl Sizes {
         let blocks = self.monomers.div_ceil(REDUCE_BLOCK) as u64;
         [
             std::mem::size_of::<GpuParams>() as u64,
-            self.walls.max(1) as u64 * std::mem::size_of::<GpuWall>() as u64,
+            // The uniform declaration has room for every wall the diagnostics can hold.
+            MAX_WALLS as u64 * std::mem::size_of::<GpuWall>() as u64,
             n * VEC4,
             n * VEC4,
             n * VEC4,
@@ -186,9 +197,13 @@ impl Sizes {
             n * NEIGHBOUR_CAPACITY as u64 * 4,
             n * 4,
             n * VEC4,
-            WORK_LISTS as u64 * n * 4,
+            EVENT_LISTS as u64 * n * 4,
             WORK_LISTS as u64 * 4,
             3 * WORK_LISTS as u64 * 4,
+            // moving_walls, wall_table: the walls buffer again (ALIASES), no memory of their own.
+            0,
+            0,
+            n * ps * 4,
         ]
     }
 
@@ -325,23 +340,26 @@ pub const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
 impl Buffers {
     /// Zero-filled buffers (at least 64 bytes each: no binding may be empty).
     pub fn new(device: &wgpu::Device, sizes: Sizes) -> Self {
-        let bindings = BINDINGS
-            .iter()
-            .zip(sizes.binding_bytes())
-            .map(|(name, bytes)| {
-                device.create_buffer(&wgpu::BufferDescriptor {
+        let mut bindings: Vec<wgpu::Buffer> = Vec::with_capacity(BINDINGS.len());
+        for (name, bytes) in BINDINGS.iter().zip(sizes.binding_bytes()) {
+            if let Some((_, target)) = ALIASES.iter().find(|(alias, _)| alias == name) {
+                let at = BINDINGS.iter().position(|b| b == target).expect("aliased");
+                bindings.push(bindings[at].clone());
+                continue;
+            }
+            bindings.push(device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some(name),
                     size: bytes.max(64).next_multiple_of(8),
                     // Indirect dispatch arguments, written on the device.
-                    usage: if *name == "work_args" {
-                        STORAGE | wgpu::BufferUsages::INDIRECT
-                    } else {
-                        STORAGE
+                    usage: match *name {
+                        "work_args" => STORAGE | wgpu::BufferUsages::INDIRECT,
+                        // Bound as `var<uniform>` (kernels::buffer_binding_type).
+                        "params" | "walls" => STORAGE | wgpu::BufferUsages::UNIFORM,
+                        _ => STORAGE,
                     },
                     mapped_at_creation: false,
-                })
-            })
-            .collect();
+                }));
+        }
         let small_readback = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("small readback"),
             size: Self::small_bytes(),

@@ -176,6 +176,7 @@ impl GpuEngine {
                     Kernel::NeighboursList,
                     Kernel::ContactsScan,
                     Kernel::Contacts,
+                    Kernel::ContactsList,
                     Kernel::ContactsClearTally,
                     Kernel::ForcesCorrections,
                     Kernel::Forces,
@@ -286,6 +287,8 @@ impl GpuEngine {
             slot_chunk: self.sizes.slot_chunk() as u32,
             work_groups_max: self.work_groups_max,
             _pad: 0,
+            _pad2: 0,
+            _pad3: 0,
             dt: self.dt,
             radius: law.radius,
             inverse_mass: 1.0 / law.mass,
@@ -386,9 +389,23 @@ impl GpuEngine {
         self.write("neighbour_count", &vec![0u32; n]);
         self.write("reference_position", &v4(&m.position));
         self.write("diag", &[0.0f64; layout::DIAG_SIZE]);
-        // Empty lists: no entries, and dispatches of no workgroups.
-        self.write("work", &[0u32; layout::WORK_LISTS]);
-        self.write("work_args", &[0u32, 1, 1].repeat(layout::WORK_LISTS));
+        // Empty event lists (no entries, dispatches of no workgroups) and the pair-contact list
+        // of the table, as contacts_list would build it.
+        let contact_list: Vec<u32> = (0..n)
+            .flat_map(|i| {
+                let first = (i * table.pair_slots) as u32;
+                first..first + table.pair_count[i]
+            })
+            .collect();
+        let pair_groups = (contact_list.len().div_ceil(layout::PAIR_GROUP) as u32)
+            .min(self.work_groups_max);
+        self.write("contact_list", &contact_list);
+        let mut work = [0u32; layout::WORK_LISTS];
+        work[layout::WORK_PAIRS] = contact_list.len() as u32;
+        self.write("work", &work);
+        let mut args = [0u32, 1, 1].repeat(layout::WORK_LISTS);
+        args[3 * layout::WORK_PAIRS] = pair_groups;
+        self.write("work_args", &args);
     }
 
     fn encode(&self, pass: &mut wgpu::ComputePass<'_>, kernels: &[Kernel]) {
@@ -417,20 +434,29 @@ impl GpuEngine {
     pub fn limit_work_groups(&mut self, max: u32) {
         self.work_groups_max = max.clamp(1, self.work_groups_max);
         self.write("params", &[self.params()]);
+        // The pair-contact list's dispatch as contacts_list would size it now.
+        let pairs = self.read::<u32>("work", layout::WORK_LISTS)[layout::WORK_PAIRS];
+        let groups = (pairs as usize).div_ceil(layout::PAIR_GROUP) as u32;
+        self.ctx.queue.write_buffer(
+            self.buffers.get("work_args"),
+            (12 * layout::WORK_PAIRS) as u64,
+            bytemuck::cast_slice(&[groups.min(self.work_groups_max)]),
+        );
     }
 
     /// The dispatches of one step, in order. `contacts_scan` lists the owners with contact
     /// events and those with a contact beyond an inelastic limit; `contacts` and
     /// `forces_corrections` run over those lists only (indirect dispatches sized on the device).
-    pub const STEP: [Kernel; 13] = [
+    pub const STEP: [Kernel; 14] = [
         Kernel::IntegrateKick,
-        Kernel::Integrate,
+        Kernel::IntegratePairs,
         Kernel::IntegrateDrift,
         Kernel::NeighboursClear,
         Kernel::Neighbours,
         Kernel::NeighboursList,
         Kernel::ContactsScan,
         Kernel::Contacts,
+        Kernel::ContactsList,
         Kernel::ForcesCorrections,
         Kernel::Forces,
         Kernel::WallForces,

@@ -6,20 +6,21 @@
 
 use super::buffers::{Buffers, MAX_BINDINGS_PER_PASS};
 use super::context::GpuContext;
-use super::layout::{WORK_CONTACTS, WORK_CORRECTIONS};
+use super::layout::{WORK_CONTACTS, WORK_CORRECTIONS, WORK_PAIRS};
 use super::shader::{assemble_pass, Assembled, ShaderError};
 use super::spirv::entry_bindings;
 
 /// Entry points in step order, with the pass file (without `.wgsl`) that holds each.
-pub const ENTRY_POINTS: [(&str, &str); 17] = [
+pub const ENTRY_POINTS: [(&str, &str); 18] = [
     ("integrate", "integrate_kick"),
-    ("integrate", "integrate"),
+    ("integrate", "integrate_pairs"),
     ("integrate", "integrate_drift"),
     ("neighbours", "neighbours_clear"),
     ("neighbours", "neighbours"),
     ("neighbours", "neighbours_list"),
     ("contacts", "contacts_scan"),
     ("contacts", "contacts"),
+    ("contacts", "contacts_list"),
     ("forces", "forces_corrections"),
     ("forces", "forces"),
     ("walls", "wall_forces"),
@@ -35,13 +36,14 @@ pub const ENTRY_POINTS: [(&str, &str); 17] = [
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Kernel {
     IntegrateKick = 0,
-    Integrate,
+    IntegratePairs,
     IntegrateDrift,
     NeighboursClear,
     Neighbours,
     NeighboursList,
     ContactsScan,
     Contacts,
+    ContactsList,
     ForcesCorrections,
     Forces,
     WallForces,
@@ -60,9 +62,29 @@ impl Kernel {
         let list = match self {
             Kernel::Contacts => WORK_CONTACTS,
             Kernel::ForcesCorrections => WORK_CORRECTIONS,
+            Kernel::IntegratePairs | Kernel::Forces => WORK_PAIRS,
             _ => return None,
         };
         Some(12 * list as u64)
+    }
+}
+
+/// How the WGSL declares binding `binding`: `var<uniform>` (read-only data every invocation
+/// reads at the same address; llvmpipe loads it once per SIMD group, where a storage load is a
+/// loop over the lanes) or `var<storage, read_write>`.
+pub fn buffer_binding_type(module: &naga::Module, binding: u32) -> wgpu::BufferBindingType {
+    let space = module
+        .global_variables
+        .iter()
+        .find(|(_, v)| v.binding.as_ref().map(|b| b.binding) == Some(binding))
+        .map(|(_, v)| v.space)
+        .unwrap_or_else(|| panic!("binding {binding} is not declared"));
+    match space {
+        naga::AddressSpace::Uniform => wgpu::BufferBindingType::Uniform,
+        naga::AddressSpace::Storage { access } => wgpu::BufferBindingType::Storage {
+            read_only: !access.contains(naga::StorageAccess::STORE),
+        },
+        other => panic!("binding {binding} is in {other:?}"),
     }
 }
 
@@ -114,7 +136,7 @@ impl Kernels {
                     binding,
                     visibility: wgpu::ShaderStages::COMPUTE,
                     ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Storage { read_only: false },
+                        ty: buffer_binding_type(naga_module, binding),
                         has_dynamic_offset: false,
                         min_binding_size: None,
                     },

@@ -95,6 +95,8 @@ pub struct GpuParams {
     /// dimension); longer lists are walked with a stride.
     pub work_groups_max: u32,
     pub _pad: u32,
+    pub _pad2: u32,
+    pub _pad3: u32,
     pub dt: f64,
     pub radius: f64,
     pub inverse_mass: f64,
@@ -106,7 +108,7 @@ pub struct GpuParams {
     pub pair: GpuConstants,
 }
 
-const _: () = assert!(std::mem::size_of::<GpuParams>() == 200);
+const _: () = assert!(std::mem::size_of::<GpuParams>() == 208);
 
 /// The WGSL `Wall` struct of shaders/engine/bindings.wgsl (vectors as vec4, w unused).
 #[repr(C)]
@@ -131,8 +133,14 @@ pub const SLOT_CHUNKS: usize = 3;
 /// list.
 pub const WORK_CONTACTS: usize = 0;
 pub const WORK_CORRECTIONS: usize = 1;
-pub const WORK_LISTS: usize = 2;
+/// The pair-contact list (`contact_list`), for the passes run one invocation per contact.
+pub const WORK_PAIRS: usize = 2;
+pub const WORK_LISTS: usize = 3;
+/// The lists in `work_list` (filled by contacts_scan, emptied by integrate_drift).
+pub const EVENT_LISTS: usize = 2;
 pub const WORK_GROUP: usize = 8;
+/// Workgroup size of the passes over the pair-contact list.
+pub const PAIR_GROUP: usize = 64;
 pub const DIAG_THREADS: usize = 64;
 pub const TALLY_STRIDE: usize = 8;
 pub const DIAG_PAIR_CONTACTS: usize = 8;
@@ -234,6 +242,8 @@ mod tests {
                 slot_chunk,
                 work_groups_max,
                 _pad,
+                _pad2,
+                _pad3,
                 dt,
                 radius,
                 inverse_mass,
@@ -287,8 +297,11 @@ mod tests {
             ("SLOT_CHUNKS", SLOT_CHUNKS),
             ("WORK_CONTACTS", WORK_CONTACTS),
             ("WORK_CORRECTIONS", WORK_CORRECTIONS),
+            ("WORK_PAIRS", WORK_PAIRS),
             ("WORK_LISTS", WORK_LISTS),
+            ("EVENT_LISTS", EVENT_LISTS),
             ("WORK_GROUP", WORK_GROUP),
+            ("PAIR_GROUP", PAIR_GROUP),
             ("NO_MONOMER", NO_MONOMER as usize),
         ] {
             assert_eq!(constant(name), value as u64, "{name}");
