@@ -67,31 +67,50 @@ fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
     let count = pair_count[i];
     var event = false;
     var beyond = false;
+    // A contact forms with a touching candidate that is not yet a partner. Every touching
+    // partner is a candidate (the lists hold every j > i within 2r + skin until something moved
+    // half the skin), so there is one exactly when the touching candidates outnumber the
+    // touching partners; counting both avoids a search of the slots per candidate (a loop
+    // lavapipe runs at least once per candidate, whatever the lanes need). Likewise for walls.
+    var touching_partners = 0u;
     for (var slot = 0u; slot < count; slot++) {
         let idx = i * params.pair_slots + slot;
         let x2 = position[pair_partner[idx]].xyz;
-        event = event || 2.0lf * r - vec_length(x - x2) < -params.pair.delta_c;
+        let delta = 2.0lf * r - vec_length(x - x2);
+        event = event || delta < -params.pair.delta_c;
+        touching_partners += select(0u, 1u, !(delta < 0.0lf));
         let stored_n1 = load_pair_n1(idx);
         beyond = beyond || beyond_limits(x, x2, stored_n1.xyz, load_pair_n2(idx).xyz, stored_n1.w);
     }
     let wcount = wall_count[i];
+    var touching_wall_contacts = 0u;
     for (var slot = 0u; slot < wcount; slot++) {
         let w = wall_id[i * params.wall_slots + slot];
         let delta = wall_overlap(x, wall_table[w].point.xyz, wall_table[w].normal.xyz, r);
         event = event || delta < -wall_table[w].k.delta_c;
+        touching_wall_contacts += select(0u, 1u, !(delta < 0.0lf));
     }
     let list = i * NEIGHBOUR_CAPACITY;
+    var touching_candidates = 0u;
     for (var k = 0u; k < neighbour_count[i]; k++) {
         let j = neighbour_list[list + k];
         let touching = !(2.0lf * r - vec_length(x - position[j].xyz) < 0.0lf);
-        event = event || (touching && !has_pair(i, count, j));
+        touching_candidates += select(0u, 1u, touching);
     }
+    var touching_walls = 0u;
     for (var w = 0u; w < params.wall_count; w++) {
         let touching = !(wall_overlap(x, walls[w].point.xyz, walls[w].normal.xyz, r) < 0.0lf);
-        event = event || (touching && !has_wall(i, wcount, w));
+        touching_walls += select(0u, 1u, touching);
     }
+    let forms_wall_contact = touching_walls > touching_wall_contacts;
+    event = event || touching_candidates > touching_partners || forms_wall_contact;
     if event {
         push_work(WORK_CONTACTS, i);
+    }
+    // Every monomer that has a wall contact after this step's events (a superset: some of
+    // these contacts may break).
+    if wcount > 0u || forms_wall_contact {
+        push_work(WORK_WALLS, i);
     }
     if beyond {
         push_work(WORK_CORRECTIONS, i);

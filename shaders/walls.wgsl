@@ -1,8 +1,10 @@
 // requires: bindings interaction wall twisting math
 //
-// Monomer–wall force pass, twin of wall_forces in src/cpu/walls.rs, preceded by the per-monomer
-// gather of the forces pass's per-contact results (pair_forces' sums on the CPU) and followed by
-// the step's work bookkeeping (the trapezoid sums of CpuEngine::step), per monomer.
+// Monomer–wall force pass, twin of wall_forces in src/cpu/walls.rs: wall_contacts evaluates the
+// wall contacts of the monomers that have any (a work list), and wall_forces gathers per
+// monomer the forces pass's per-contact results (pair_forces' sums on the CPU), then the wall
+// contacts' results, then does the step's work bookkeeping (the trapezoid sums of
+// CpuEngine::step).
 //
 // Gather order equals the CPU's: a monomer's force starts at zero, takes −F of every contact it
 // is the partner of in increasing owner index (the CPU visits owners in index order), then +F
@@ -51,12 +53,54 @@ fn wall_forces(@builtin(global_invocation_id) id: vec3<u32>) {
         m = m + r.m1;
     }
 
-    // Wall contacts.
-    let r = params.radius;
-    let x = position[i].xyz;
+    // Wall contacts, as wall_contacts found them, in slot order.
     let v = velocity[i].xyz;
     var power = 0.0lf;
     var damping_power = 0.0lf;
+    for (var slot = 0u; slot < wall_count[i]; slot++) {
+        let idx = i * params.wall_slots + slot;
+        let wf = wall_force[idx].xyz;
+        let wd = wall_damping[idx].xyz;
+        f = f + wf;
+        fd = fd + wd;
+        m = m + wall_torque[idx].xyz;
+        let travel = wall_table[wall_id[idx]].velocity.xyz * params.dt;
+        power = power + vec_dot(wf, travel);
+        damping_power = damping_power + vec_dot(wd, travel);
+    }
+
+    // Work over the step by the trapezoid rule (CpuEngine::step).
+    let s = aux[i];
+    let fd_before = damping_force[i].xyz;
+    add_tally(i, TALLY_DAMPING, -(0.5lf * vec_dot(fd_before + fd, v * params.dt)));
+    add_tally(i, TALLY_DAMPING, 0.5lf * (s.w + damping_power));
+    add_tally(i, TALLY_WALL_WORK, 0.5lf * (s.z + power));
+    aux[i] = vec4<f64>(s.x, s.y, power, damping_power);
+    force[i] = vec4<f64>(f, 0.0lf);
+    torque[i] = vec4<f64>(m, 0.0lf);
+    damping_force[i] = vec4<f64>(fd, 0.0lf);
+}
+
+// The wall contacts of the monomers contacts_scan and contact_events listed (dispatched
+// indirectly over that list; each invocation takes every stride-th entry, as a dispatch holds
+// at most work_groups_max groups): inelastic limits, then forces, stored per slot for
+// wall_forces. Few monomers touch a wall, and lavapipe would run this for every monomer of a
+// SIMD group in which one does.
+@compute @workgroup_size(8)
+fn wall_contacts(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+) {
+    let stride = groups.x * WORK_GROUP;
+    for (var k = id.x; k < work_length(WORK_WALLS); k += stride) {
+        wall_contacts_of(work_item(WORK_WALLS, k));
+    }
+}
+
+fn wall_contacts_of(i: u32) {
+    let r = params.radius;
+    let x = position[i].xyz;
+    let v = velocity[i].xyz;
     for (var slot = 0u; slot < wall_count[i]; slot++) {
         let idx = i * params.wall_slots + slot;
         let wall = wall_table[wall_id[idx]];
@@ -93,23 +137,8 @@ fn wall_forces(@builtin(global_invocation_id) id: vec3<u32>) {
         }
 
         let it = wall_interaction(x, v, wall, n1, anchor, twist);
-        f = f + it.f;
-        fd = fd + it.fd;
-        m = m + it.m;
         wall_force[idx] = vec4<f64>(it.f, 0.0lf);
-        let travel = wall.velocity.xyz * params.dt;
-        power = power + vec_dot(it.f, travel);
-        damping_power = damping_power + vec_dot(it.fd, travel);
+        wall_damping[idx] = vec4<f64>(it.fd, 0.0lf);
+        wall_torque[idx] = vec4<f64>(it.m, 0.0lf);
     }
-
-    // Work over the step by the trapezoid rule (CpuEngine::step).
-    let s = aux[i];
-    let fd_before = damping_force[i].xyz;
-    add_tally(i, TALLY_DAMPING, -(0.5lf * vec_dot(fd_before + fd, v * params.dt)));
-    add_tally(i, TALLY_DAMPING, 0.5lf * (s.w + damping_power));
-    add_tally(i, TALLY_WALL_WORK, 0.5lf * (s.z + power));
-    aux[i] = vec4<f64>(s.x, s.y, power, damping_power);
-    force[i] = vec4<f64>(f, 0.0lf);
-    torque[i] = vec4<f64>(m, 0.0lf);
-    damping_force[i] = vec4<f64>(fd, 0.0lf);
 }

@@ -395,6 +395,7 @@ fn forces_and_walls_match_their_cpu_twins() {
         Kernel::ContactsList,
         Kernel::ForcesCorrections,
         Kernel::Forces,
+        Kernel::WallContacts,
         Kernel::WallForces,
         Kernel::ReduceWalls,
         Kernel::ReduceWallsFinal,
@@ -451,6 +452,7 @@ fn reductions_match_their_cpu_twin_to_the_bit() {
         Kernel::ContactsList,
         Kernel::ForcesCorrections,
         Kernel::Forces,
+        Kernel::WallContacts,
         Kernel::WallForces,
         Kernel::ReduceWalls,
         Kernel::ReduceWallsFinal,
@@ -553,6 +555,7 @@ fn inelastic_corrections_on_the_gpu_land_on_the_critical_lengths() {
         Kernel::ContactsList,
         Kernel::ForcesCorrections,
         Kernel::Forces,
+        Kernel::WallContacts,
         Kernel::WallForces,
     ]);
     let after_table = gpu.contacts();

@@ -82,11 +82,13 @@ const NEIGHBOUR_CAPACITY: u32 = 24u;
 // (one SIMD group of lavapipe).
 const WORK_CONTACTS: u32 = 0u;
 const WORK_CORRECTIONS: u32 = 1u;
+// The monomers with wall contacts this step (wall_contacts).
+const WORK_WALLS: u32 = 2u;
 // The pair contacts (slot indices), for the passes that run one invocation per contact.
-const WORK_PAIRS: u32 = 2u;
-const WORK_LISTS: u32 = 3u;
+const WORK_PAIRS: u32 = 3u;
+const WORK_LISTS: u32 = 4u;
 // The lists contacts_scan fills and integrate_drift empties (in `work_list`).
-const EVENT_LISTS: u32 = 2u;
+const EVENT_LISTS: u32 = 3u;
 const WORK_GROUP: u32 = 8u;
 // Workgroup size of the passes over the pair-contact list.
 const PAIR_GROUP: u32 = 64u;
@@ -171,7 +173,8 @@ const DIAG_SIZE: u32 = 80u;
 @group(0) @binding(28) var<storage, read_write> wall_anchor: array<vec4<f64>>;
 @group(0) @binding(29) var<storage, read_write> wall_id: array<u32>;
 @group(0) @binding(30) var<storage, read_write> wall_count: array<u32>;
-// Force of each wall contact on its monomer, for the per-wall reduction.
+// Force of each wall contact on its monomer (for the per-wall reduction and the gather), its
+// damping part and the torque on the monomer, as the wall_contacts pass found them.
 @group(0) @binding(31) var<storage, read_write> wall_force: array<vec4<f64>>;
 // Pair slots (owner · pair_slots + slot) whose partner is this monomer, INCOMING_CAPACITY per
 // monomer, in arrival order; sorted before they are summed.
@@ -213,6 +216,8 @@ const DIAG_SIZE: u32 = 80u;
 // lanes idle (an owner has about one contact, the group runs as many rounds as its busiest
 // lane); a list of contacts keeps them all busy.
 @group(0) @binding(47) var<storage, read_write> contact_list: array<u32>;
+@group(0) @binding(48) var<storage, read_write> wall_damping: array<vec4<f64>>;
+@group(0) @binding(49) var<storage, read_write> wall_torque: array<vec4<f64>>;
 
 // Which binding of a per-slot array holds slot index `idx`, and where: (chunk, element).
 fn slot_chunk_of(idx: u32) -> vec2<u32> {

@@ -15,7 +15,7 @@ const VEC4: u64 = 32;
 
 /// Binding names in binding order (index = binding number of bindings.wgsl). A per-slot
 /// vector array is [`SLOT_CHUNKS`] bindings, `<array>_0` … `<array>_2`.
-pub const BINDINGS: [&str; 48] = [
+pub const BINDINGS: [&str; 50] = [
     "params",
     "walls",
     "position",
@@ -64,6 +64,8 @@ pub const BINDINGS: [&str; 48] = [
     "moving_walls",
     "wall_table",
     "contact_list",
+    "wall_damping",
+    "wall_torque",
 ];
 
 /// Bindings that are another binding's buffer under a second declaration: (alias, buffer).
@@ -75,7 +77,7 @@ pub const ALIASES: [(&str, &str); 2] = [("moving_walls", "walls"), ("wall_table"
 
 /// The most bindings one pass uses (each pass binds only what its entry point reads or
 /// writes; `kernels::tests` derives this from the shaders with naga).
-pub const MAX_BINDINGS_PER_PASS: u32 = 27;
+pub const MAX_BINDINGS_PER_PASS: u32 = 25;
 
 // lavapipe binds 32 storage buffers per stage, the least of the Vulkan adapters with f64.
 const _: () = assert!(MAX_BINDINGS_PER_PASS <= 32);
@@ -147,7 +149,7 @@ impl Sizes {
     }
 
     /// Bytes of every binding, in binding order.
-    pub fn binding_bytes(&self) -> [u64; 48] {
+    pub fn binding_bytes(&self) -> [u64; 50] {
         let n = self.monomers as u64;
         let ws = self.wall_slots as u64;
         let ps = self.pair_slots as u64;
@@ -204,6 +206,8 @@ impl Sizes {
             0,
             0,
             n * ps * 4,
+            n * ws * VEC4,
+            n * ws * VEC4,
         ]
     }
 

@@ -180,6 +180,7 @@ impl GpuEngine {
                     Kernel::ContactsClearTally,
                     Kernel::ForcesCorrections,
                     Kernel::Forces,
+                    Kernel::WallContacts,
                     Kernel::WallForces,
                     Kernel::ReduceWalls,
                     Kernel::ReduceWallsFinal,
@@ -447,7 +448,7 @@ impl GpuEngine {
     /// The dispatches of one step, in order. `contacts_scan` lists the owners with contact
     /// events and those with a contact beyond an inelastic limit; `contacts` and
     /// `forces_corrections` run over those lists only (indirect dispatches sized on the device).
-    pub const STEP: [Kernel; 14] = [
+    pub const STEP: [Kernel; 15] = [
         Kernel::IntegrateKick,
         Kernel::IntegratePairs,
         Kernel::IntegrateDrift,
@@ -459,6 +460,7 @@ impl GpuEngine {
         Kernel::ContactsList,
         Kernel::ForcesCorrections,
         Kernel::Forces,
+        Kernel::WallContacts,
         Kernel::WallForces,
         Kernel::ReduceWalls,
         Kernel::ReduceWallsFinal,

@@ -6,12 +6,12 @@
 
 use super::buffers::{Buffers, MAX_BINDINGS_PER_PASS};
 use super::context::GpuContext;
-use super::layout::{WORK_CONTACTS, WORK_CORRECTIONS, WORK_PAIRS};
+use super::layout::{WORK_CONTACTS, WORK_CORRECTIONS, WORK_PAIRS, WORK_WALLS};
 use super::shader::{assemble_pass, Assembled, ShaderError};
 use super::spirv::entry_bindings;
 
 /// Entry points in step order, with the pass file (without `.wgsl`) that holds each.
-pub const ENTRY_POINTS: [(&str, &str); 18] = [
+pub const ENTRY_POINTS: [(&str, &str); 19] = [
     ("integrate", "integrate_kick"),
     ("integrate", "integrate_pairs"),
     ("integrate", "integrate_drift"),
@@ -23,6 +23,7 @@ pub const ENTRY_POINTS: [(&str, &str); 18] = [
     ("contacts", "contacts_list"),
     ("forces", "forces_corrections"),
     ("forces", "forces"),
+    ("walls", "wall_contacts"),
     ("walls", "wall_forces"),
     ("reduce", "reduce_walls"),
     ("reduce", "reduce_walls_final"),
@@ -46,6 +47,7 @@ pub enum Kernel {
     ContactsList,
     ForcesCorrections,
     Forces,
+    WallContacts,
     WallForces,
     ReduceWalls,
     ReduceWallsFinal,
@@ -62,6 +64,7 @@ impl Kernel {
         let list = match self {
             Kernel::Contacts => WORK_CONTACTS,
             Kernel::ForcesCorrections => WORK_CORRECTIONS,
+            Kernel::WallContacts => WORK_WALLS,
             Kernel::IntegratePairs | Kernel::Forces => WORK_PAIRS,
             _ => return None,
         };

@@ -133,11 +133,13 @@ pub const SLOT_CHUNKS: usize = 3;
 /// list.
 pub const WORK_CONTACTS: usize = 0;
 pub const WORK_CORRECTIONS: usize = 1;
+/// The monomers with wall contacts (wall_contacts).
+pub const WORK_WALLS: usize = 2;
 /// The pair-contact list (`contact_list`), for the passes run one invocation per contact.
-pub const WORK_PAIRS: usize = 2;
-pub const WORK_LISTS: usize = 3;
+pub const WORK_PAIRS: usize = 3;
+pub const WORK_LISTS: usize = 4;
 /// The lists in `work_list` (filled by contacts_scan, emptied by integrate_drift).
-pub const EVENT_LISTS: usize = 2;
+pub const EVENT_LISTS: usize = 3;
 pub const WORK_GROUP: usize = 8;
 /// Workgroup size of the passes over the pair-contact list.
 pub const PAIR_GROUP: usize = 64;
@@ -297,6 +299,7 @@ mod tests {
             ("SLOT_CHUNKS", SLOT_CHUNKS),
             ("WORK_CONTACTS", WORK_CONTACTS),
             ("WORK_CORRECTIONS", WORK_CORRECTIONS),
+            ("WORK_WALLS", WORK_WALLS),
             ("WORK_PAIRS", WORK_PAIRS),
             ("WORK_LISTS", WORK_LISTS),
             ("EVENT_LISTS", EVENT_LISTS),
