@@ -1,4 +1,4 @@
-// requires: bindings interaction wall sliding math
+// requires: bindings cells interaction wall sliding math
 //
 // Contact maintenance pass, twin of update_contacts in src/cpu/contacts.rs: breaks stretched
 // contacts (δ < −δ_c) and forms new ones (δ ≥ 0), keeping the history of every contact that
@@ -45,8 +45,11 @@ fn beyond_limits(x1: vec3<f64>, x2: vec3<f64>, n1: vec3<f64>, n2: vec3<f64>, twi
 }
 
 // Lists the owners that have a contact event this step (a contact to break or one to form,
-// tested exactly as `contacts` tests them, so an owner left out has nothing to do there), and
-// the owners with a contact beyond an inelastic limit (for forces_corrections). The lists were
+// tested exactly as `contacts` tests them, so an owner left out has nothing to do there), the
+// owners with a contact beyond an inelastic limit (for forces_corrections), the monomers with
+// wall contacts (wall_contacts) and the pair contacts as the events will leave them (the
+// contact-parallel passes). The same tests give the number of contacts each owner breaks and
+// forms, so the pair-contact list needs no pass after the events. The lists were
 // emptied by integrate_drift (or are fresh from the upload); a second scan before the next
 // drift would list owners twice.
 @compute @workgroup_size(64)
@@ -55,9 +58,6 @@ fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
     // Every neighbour pass of this step is done: the lists are fresh.
     if i == 0u {
         atomicStore(&flags[FLAG_REBUILD], NO_MONOMER);
-        // contacts_list refills the pair-contact list after this step's events.
-        atomicStore(&work[WORK_PAIRS], 0u);
-        atomicStore(&work_args[3u * WORK_PAIRS], 0u);
     }
     if i >= params.n {
         return;
@@ -73,11 +73,14 @@ fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
     // touching partners; counting both avoids a search of the slots per candidate (a loop
     // lavapipe runs at least once per candidate, whatever the lanes need). Likewise for walls.
     var touching_partners = 0u;
+    var breaking = 0u;
     for (var slot = 0u; slot < count; slot++) {
         let idx = i * params.pair_slots + slot;
         let x2 = position[pair_partner[idx]].xyz;
         let delta = 2.0lf * r - vec_length(x - x2);
-        event = event || delta < -params.pair.delta_c;
+        let breaks = delta < -params.pair.delta_c;
+        event = event || breaks;
+        breaking += select(0u, 1u, breaks);
         touching_partners += select(0u, 1u, !(delta < 0.0lf));
         let stored_n1 = load_pair_n1(idx);
         beyond = beyond || beyond_limits(x, x2, stored_n1.xyz, load_pair_n2(idx).xyz, stored_n1.w);
@@ -103,7 +106,8 @@ fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
         touching_walls += select(0u, 1u, touching);
     }
     let forms_wall_contact = touching_walls > touching_wall_contacts;
-    event = event || touching_candidates > touching_partners || forms_wall_contact;
+    let forming = select(0u, touching_candidates - touching_partners, touching_candidates > touching_partners);
+    event = event || forming > 0u || forms_wall_contact;
     if event {
         push_work(WORK_CONTACTS, i);
     }
@@ -115,6 +119,19 @@ fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
     if beyond {
         push_work(WORK_CORRECTIONS, i);
     }
+    // The pair contacts: the slots below the count before or after the events, whichever is
+    // larger (breaking contacts are swapped out and new ones appended, as many as fit;
+    // contact_events flags the rest). The passes over the list skip a slot at or above the
+    // owner's count, so the list also serves a state whose events have not run.
+    let after_events = min(count - breaking + forming, params.pair_slots);
+    let listed = max(count, after_events);
+    if listed > 0u {
+        push_pairs(i, listed);
+    }
+    // Empty the cell table again for the next rebuild: a monomer was put in the bucket of its
+    // reference position, so these stores reach every bucket that holds one (and store 0 to
+    // empty ones between rebuilds).
+    atomicStore(&bucket_count[bucket_of(cell_of(reference_position[i].xyz))], 0u);
 }
 
 // The events of the owners `contacts_scan` listed (dispatched indirectly over that list; each
@@ -223,20 +240,6 @@ fn contact_events(i: u32) {
         wcount += 1u;
     }
     wall_count[i] = wcount;
-}
-
-// Lists every pair contact for the contact-parallel passes, after the contact events (the
-// scan emptied the list).
-@compute @workgroup_size(64)
-fn contacts_list(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.x;
-    if i >= params.n {
-        return;
-    }
-    let count = pair_count[i];
-    if count > 0u {
-        push_pairs(i, count);
-    }
 }
 
 // Contacts present at the start are part of the initial state, not a dissipation

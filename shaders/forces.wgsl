@@ -74,7 +74,7 @@ fn apply_inelastic_limits(i: u32) {
 }
 
 // JKR, damping, rolling, sliding and twisting of every pair contact, after the corrections: one
-// invocation per contact (the list contacts_list built after this step's events; each
+// invocation per contact (the list contacts_scan built for this step's events; each
 // invocation takes every stride-th entry, as a dispatch holds at most work_groups_max groups).
 @compute @workgroup_size(64)
 fn forces(
@@ -83,7 +83,10 @@ fn forces(
 ) {
     let stride = groups.x * PAIR_GROUP;
     for (var k = id.x; k < work_length(WORK_PAIRS); k += stride) {
-        contact_forces(contact_list[k]);
+        let idx = contact_list[k];
+        if pair_slot_in_use(idx) {
+            contact_forces(idx);
+        }
     }
 }
 

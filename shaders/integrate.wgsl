@@ -34,7 +34,7 @@ fn integrate_kick(@builtin(global_invocation_id) id: vec3<u32>) {
     }
 }
 
-// One invocation per pair contact (the list contacts_list built after the last contact
+// One invocation per pair contact (the list contacts_scan built for the last contact
 // events; each invocation takes every stride-th entry, as a dispatch holds at most
 // work_groups_max groups).
 @compute @workgroup_size(64)
@@ -44,7 +44,10 @@ fn integrate_pairs(
 ) {
     let stride = groups.x * PAIR_GROUP;
     for (var k = id.x; k < work_length(WORK_PAIRS); k += stride) {
-        turn_pair_pointers(contact_list[k]);
+        let idx = contact_list[k];
+        if pair_slot_in_use(idx) {
+            turn_pair_pointers(idx);
+        }
     }
 }
 
@@ -75,7 +78,7 @@ fn integrate_drift(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     // Empty the work lists for this step's scan (a dispatch of its own would cost as much as
     // a small system's pass on lavapipe).
-    if i < EVENT_LISTS {
+    if i < WORK_LISTS {
         atomicStore(&work[i], 0u);
         atomicStore(&work_args[3u * i], 0u);
         atomicStore(&work_args[3u * i + 1u], 1u);

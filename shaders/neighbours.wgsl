@@ -6,20 +6,14 @@
 // Any pair that can touch before the next rebuild is in the lists, so the contacts pass forms
 // the same contacts as the CPU whatever the rebuild schedule.
 //
-// neighbours_clear empties the cell table, neighbours inserts every monomer into the bucket of
-// its cell (edge 2r + skin), neighbours_list scans the 27 cells around each monomer. A full
+// neighbours inserts every monomer into the bucket of its cell (edge 2r + skin),
+// neighbours_list scans the 27 cells around each monomer; contacts_scan empties the buckets
+// again (a pass over the whole table every step cost more than the rest of a quiet step). A full
 // bucket or list is flagged (FLAG_BUCKET, FLAG_NEIGHBOURS, with the monomer concerned), never
 // silently dropped.
 
 fn rebuild_due() -> bool {
     return atomicLoad(&flags[FLAG_REBUILD]) != NO_MONOMER;
-}
-
-@compute @workgroup_size(64)
-fn neighbours_clear(@builtin(global_invocation_id) id: vec3<u32>) {
-    if id.x <= params.table_mask && rebuild_due() {
-        atomicStore(&bucket_count[id.x], 0u);
-    }
 }
 
 @compute @workgroup_size(64)

@@ -340,13 +340,12 @@ fn contacts_match_their_cpu_twin() {
         &mut tally,
     )
     .unwrap();
+    gpu.clear_work_lists();
     gpu.dispatch(&[
-        Kernel::NeighboursClear,
         Kernel::Neighbours,
         Kernel::NeighboursList,
         Kernel::ContactsScan,
         Kernel::Contacts,
-        Kernel::ContactsList,
     ]);
     let before = state.contacts.pair_contact_count();
     eprintln!(
@@ -390,9 +389,9 @@ fn forces_and_walls_match_their_cpu_twins() {
         &mut wall_force,
         &mut wall_damping,
     );
+    gpu.clear_work_lists();
     gpu.dispatch(&[
         Kernel::ContactsScan,
-        Kernel::ContactsList,
         Kernel::ForcesCorrections,
         Kernel::Forces,
         Kernel::WallContacts,
@@ -446,10 +445,10 @@ fn reductions_match_their_cpu_twin_to_the_bit() {
     let Some(mut gpu) = gpu_of(&state) else {
         return;
     };
+    gpu.clear_work_lists();
     gpu.dispatch(&[
         Kernel::ContactsScan,
         Kernel::Contacts,
-        Kernel::ContactsList,
         Kernel::ForcesCorrections,
         Kernel::Forces,
         Kernel::WallContacts,
@@ -550,9 +549,9 @@ fn inelastic_corrections_on_the_gpu_land_on_the_critical_lengths() {
     let Some(mut gpu) = gpu_of(&state) else {
         return;
     };
+    gpu.clear_work_lists();
     gpu.dispatch(&[
         Kernel::ContactsScan,
-        Kernel::ContactsList,
         Kernel::ForcesCorrections,
         Kernel::Forces,
         Kernel::WallContacts,

@@ -87,7 +87,8 @@ const WORK_WALLS: u32 = 2u;
 // The pair contacts (slot indices), for the passes that run one invocation per contact.
 const WORK_PAIRS: u32 = 3u;
 const WORK_LISTS: u32 = 4u;
-// The lists contacts_scan fills and integrate_drift empties (in `work_list`).
+// The lists of owners (in `work_list`); contacts_scan fills every list, integrate_drift
+// empties them.
 const EVENT_LISTS: u32 = 3u;
 const WORK_GROUP: u32 = 8u;
 // Workgroup size of the passes over the pair-contact list.
@@ -211,7 +212,7 @@ const DIAG_SIZE: u32 = 80u;
 @group(0) @binding(46) var<storage, read> wall_table: array<Wall>;
 // Every pair contact's slot index (owner · pair_slots + slot), its length in work[WORK_PAIRS]:
 // the contact-parallel passes (integrate_pairs, forces) run one invocation per entry. Built
-// after each step's contact events by contacts_list, in no fixed order (each contact's work
+// for each step's contact events by contacts_scan, in no fixed order (each contact's work
 // touches only its own slot). An owner's loop over its slots keeps most of lavapipe's SIMD
 // lanes idle (an owner has about one contact, the group runs as many rounds as its busiest
 // lane); a list of contacts keeps them all busy.
@@ -353,6 +354,13 @@ fn push_pairs(i: u32, count: u32) {
     }
     let groups = (at + count + PAIR_GROUP - 1u) / PAIR_GROUP;
     atomicMax(&work_args[3u * WORK_PAIRS], min(groups, params.work_groups_max));
+}
+
+// Whether pair-contact list entry `idx` (a slot index) holds a contact now: the list may hold
+// slots that the contact events emptied.
+fn pair_slot_in_use(idx: u32) -> bool {
+    let i = idx / params.pair_slots;
+    return idx - i * params.pair_slots < pair_count[i];
 }
 
 // Length of work list `list`.

@@ -171,12 +171,10 @@ impl GpuEngine {
             engine.encode(
                 &mut pass,
                 &[
-                    Kernel::NeighboursClear,
                     Kernel::Neighbours,
                     Kernel::NeighboursList,
                     Kernel::ContactsScan,
                     Kernel::Contacts,
-                    Kernel::ContactsList,
                     Kernel::ContactsClearTally,
                     Kernel::ForcesCorrections,
                     Kernel::Forces,
@@ -390,8 +388,8 @@ impl GpuEngine {
         self.write("neighbour_count", &vec![0u32; n]);
         self.write("reference_position", &v4(&m.position));
         self.write("diag", &[0.0f64; layout::DIAG_SIZE]);
-        // Empty event lists (no entries, dispatches of no workgroups) and the pair-contact list
-        // of the table, as contacts_list would build it.
+        // The lists of a finished step: event lists empty (no entries, dispatches of no
+        // workgroups), the pair-contact list holding every contact of the table.
         let contact_list: Vec<u32> = (0..n)
             .flat_map(|i| {
                 let first = (i * table.pair_slots) as u32;
@@ -409,6 +407,13 @@ impl GpuEngine {
         self.write("work_args", &args);
     }
 
+    /// Empties the work lists, as integrate_drift does before each step's scan (tests that
+    /// run contacts_scan on an uploaded state, whose lists are those of a finished step).
+    pub fn clear_work_lists(&self) {
+        self.write("work", &[0u32; layout::WORK_LISTS]);
+        self.write("work_args", &[0u32, 1, 1].repeat(layout::WORK_LISTS));
+    }
+
     fn encode(&self, pass: &mut wgpu::ComputePass<'_>, kernels: &[Kernel]) {
         let n = self.sizes.monomers;
         for &k in kernels {
@@ -420,7 +425,6 @@ impl GpuEngine {
                 continue;
             }
             let count = match k {
-                Kernel::NeighboursClear => groups(self.sizes.table),
                 Kernel::IntegrateDrift => groups(n.max(self.walls.len())),
                 Kernel::ReduceWalls => groups(n.div_ceil(layout::REDUCE_BLOCK)),
                 Kernel::ReduceWallsFinal | Kernel::ReduceDiagnostics => 1,
@@ -448,16 +452,14 @@ impl GpuEngine {
     /// The dispatches of one step, in order. `contacts_scan` lists the owners with contact
     /// events and those with a contact beyond an inelastic limit; `contacts` and
     /// `forces_corrections` run over those lists only (indirect dispatches sized on the device).
-    pub const STEP: [Kernel; 15] = [
+    pub const STEP: [Kernel; 13] = [
         Kernel::IntegrateKick,
         Kernel::IntegratePairs,
         Kernel::IntegrateDrift,
-        Kernel::NeighboursClear,
         Kernel::Neighbours,
         Kernel::NeighboursList,
         Kernel::ContactsScan,
         Kernel::Contacts,
-        Kernel::ContactsList,
         Kernel::ForcesCorrections,
         Kernel::Forces,
         Kernel::WallContacts,

@@ -11,16 +11,14 @@ use super::shader::{assemble_pass, Assembled, ShaderError};
 use super::spirv::entry_bindings;
 
 /// Entry points in step order, with the pass file (without `.wgsl`) that holds each.
-pub const ENTRY_POINTS: [(&str, &str); 19] = [
+pub const ENTRY_POINTS: [(&str, &str); 17] = [
     ("integrate", "integrate_kick"),
     ("integrate", "integrate_pairs"),
     ("integrate", "integrate_drift"),
-    ("neighbours", "neighbours_clear"),
     ("neighbours", "neighbours"),
     ("neighbours", "neighbours_list"),
     ("contacts", "contacts_scan"),
     ("contacts", "contacts"),
-    ("contacts", "contacts_list"),
     ("forces", "forces_corrections"),
     ("forces", "forces"),
     ("walls", "wall_contacts"),
@@ -39,12 +37,10 @@ pub enum Kernel {
     IntegrateKick = 0,
     IntegratePairs,
     IntegrateDrift,
-    NeighboursClear,
     Neighbours,
     NeighboursList,
     ContactsScan,
     Contacts,
-    ContactsList,
     ForcesCorrections,
     Forces,
     WallContacts,
