@@ -142,7 +142,8 @@ fn contacts(
     @builtin(num_workgroups) groups: vec3<u32>,
 ) {
     let stride = groups.x * WORK_GROUP;
-    for (var k = id.x; k < work_length(WORK_CONTACTS); k += stride) {
+    let length = work_length(WORK_CONTACTS);
+    for (var k = id.x; k < length; k += stride) {
         contact_events(work_item(WORK_CONTACTS, k));
     }
 }

@@ -28,7 +28,8 @@ fn forces_corrections(
     @builtin(num_workgroups) groups: vec3<u32>,
 ) {
     let stride = groups.x * WORK_GROUP;
-    for (var k = id.x; k < work_length(WORK_CORRECTIONS); k += stride) {
+    let length = work_length(WORK_CORRECTIONS);
+    for (var k = id.x; k < length; k += stride) {
         apply_inelastic_limits(work_item(WORK_CORRECTIONS, k));
     }
 }
@@ -82,7 +83,8 @@ fn forces(
     @builtin(num_workgroups) groups: vec3<u32>,
 ) {
     let stride = groups.x * PAIR_GROUP;
-    for (var k = id.x; k < work_length(WORK_PAIRS); k += stride) {
+    let length = work_length(WORK_PAIRS);
+    for (var k = id.x; k < length; k += stride) {
         let idx = contact_list[k];
         if pair_slot_in_use(idx) {
             contact_forces(idx);

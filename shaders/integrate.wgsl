@@ -43,7 +43,8 @@ fn integrate_pairs(
     @builtin(num_workgroups) groups: vec3<u32>,
 ) {
     let stride = groups.x * PAIR_GROUP;
-    for (var k = id.x; k < work_length(WORK_PAIRS); k += stride) {
+    let length = work_length(WORK_PAIRS);
+    for (var k = id.x; k < length; k += stride) {
         let idx = contact_list[k];
         if pair_slot_in_use(idx) {
             turn_pair_pointers(idx);

@@ -92,7 +92,8 @@ fn wall_contacts(
     @builtin(num_workgroups) groups: vec3<u32>,
 ) {
     let stride = groups.x * WORK_GROUP;
-    for (var k = id.x; k < work_length(WORK_WALLS); k += stride) {
+    let length = work_length(WORK_WALLS);
+    for (var k = id.x; k < length; k += stride) {
         wall_contacts_of(work_item(WORK_WALLS, k));
     }
 }

@@ -341,7 +341,10 @@ fn flag(which: u32, monomer: u32) {
 fn push_work(list: u32, i: u32) {
     let k = atomicAdd(&work[list], 1u);
     work_list[list * params.n + k] = i;
-    atomicMax(&work_args[3u * list], min(k / WORK_GROUP + 1u, params.work_groups_max));
+    // Only the entry that opens a workgroup widens the dispatch (fewer atomics on one word).
+    if k % WORK_GROUP == 0u {
+        atomicMax(&work_args[3u * list], min(k / WORK_GROUP + 1u, params.work_groups_max));
+    }
 }
 
 // Appends the `count` slots of owner `i` to the pair-contact list and widens the list's
@@ -352,8 +355,12 @@ fn push_pairs(i: u32, count: u32) {
     for (var slot = 0u; slot < count; slot++) {
         contact_list[at + slot] = i * params.pair_slots + slot;
     }
+    // Only a push that reaches into a new workgroup widens the dispatch (fewer atomics on one
+    // word): the push holding a group's first entry always does.
     let groups = (at + count + PAIR_GROUP - 1u) / PAIR_GROUP;
-    atomicMax(&work_args[3u * WORK_PAIRS], min(groups, params.work_groups_max));
+    if groups > (at + PAIR_GROUP - 1u) / PAIR_GROUP {
+        atomicMax(&work_args[3u * WORK_PAIRS], min(groups, params.work_groups_max));
+    }
 }
 
 // Whether pair-contact list entry `idx` (a slot index) holds a contact now: the list may hold
