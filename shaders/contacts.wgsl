@@ -10,15 +10,6 @@
 // are appended in increasing partner index (both sides' candidate lists are sorted); new wall
 // contacts are appended in wall order. The energies of the events go to the owner's own tally.
 
-fn has_pair(i: u32, count: u32, j: u32) -> bool {
-    for (var slot = 0u; slot < count; slot++) {
-        if pair_partner[i * params.pair_slots + slot] == j {
-            return true;
-        }
-    }
-    return false;
-}
-
 fn has_wall(i: u32, count: u32, w: u32) -> bool {
     for (var slot = 0u; slot < count; slot++) {
         if wall_id[i * params.wall_slots + slot] == w {
@@ -67,12 +58,9 @@ fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
     let count = pair_count[i];
     var event = false;
     var beyond = false;
-    // A contact forms with a touching candidate that is not yet a partner. Every touching
-    // partner is a candidate (the lists hold every j > i within 2r + skin until something moved
-    // half the skin), so there is one exactly when the touching candidates outnumber the
-    // touching partners; counting both avoids a search of the slots per candidate (a loop
-    // lavapipe runs at least once per candidate, whatever the lanes need). Likewise for walls.
-    var touching_partners = 0u;
+    // A contact forms with every touching candidate (the candidate lists hold no partners, see
+    // neighbours_list). A wall contact forms when more walls touch than wall contacts do
+    // (counting avoids a search of the slots per wall).
     var breaking = 0u;
     for (var slot = 0u; slot < count; slot++) {
         let idx = i * params.pair_slots + slot;
@@ -81,7 +69,6 @@ fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
         let breaks = delta < -params.pair.delta_c;
         event = event || breaks;
         breaking += select(0u, 1u, breaks);
-        touching_partners += select(0u, 1u, !(delta < 0.0lf));
         let stored_n1 = load_pair_n1(idx);
         beyond = beyond || beyond_limits(x, x2, stored_n1.xyz, load_pair_n2(idx).xyz, stored_n1.w);
     }
@@ -94,11 +81,11 @@ fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
         touching_wall_contacts += select(0u, 1u, !(delta < 0.0lf));
     }
     let list = i * NEIGHBOUR_CAPACITY;
-    var touching_candidates = 0u;
+    var forming = 0u;
     for (var k = 0u; k < neighbour_count[i]; k++) {
         let j = neighbour_list[list + k];
         let touching = !(2.0lf * r - vec_length(x - position[j].xyz) < 0.0lf);
-        touching_candidates += select(0u, 1u, touching);
+        forming += select(0u, 1u, touching);
     }
     var touching_walls = 0u;
     for (var w = 0u; w < params.wall_count; w++) {
@@ -106,7 +93,6 @@ fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
         touching_walls += select(0u, 1u, touching);
     }
     let forms_wall_contact = touching_walls > touching_wall_contacts;
-    let forming = select(0u, touching_candidates - touching_partners, touching_candidates > touching_partners);
     event = event || forming > 0u || forms_wall_contact;
     if event {
         push_work(WORK_CONTACTS, i);
@@ -164,6 +150,8 @@ fn contact_events(i: u32) {
         if delta < -params.pair.delta_c {
             let a = load_pair_n1(idx);
             add_tally(i, TALLY_BREAKING, pair_step_energy(i, j, a.xyz, load_pair_n2(idx).xyz, a.w));
+            // No longer a partner: a candidate again (it may touch again before a rebuild).
+            insert_candidate(i, j);
             let last = base + count - 1u;
             store_pair_n1(idx, load_pair_n1(last));
             store_pair_n2(idx, load_pair_n2(last));
@@ -193,18 +181,23 @@ fn contact_events(i: u32) {
         }
     }
 
-    // Form pair contacts from the candidate list, partners in increasing index.
+    // Form pair contacts from the candidate list, partners in increasing index; a candidate
+    // that becomes a partner leaves the list (kept in order, compacted in place).
     let list = i * NEIGHBOUR_CAPACITY;
-    for (var k = 0u; k < neighbour_count[i]; k++) {
+    let candidates = neighbour_count[i];
+    var kept = 0u;
+    for (var k = 0u; k < candidates; k++) {
         let j = neighbour_list[list + k];
         let d = x - position[j].xyz;
         let distance = vec_length(d);
-        if 2.0lf * r - distance < 0.0lf || has_pair(i, count, j) {
+        let full = count >= params.pair_slots;
+        if 2.0lf * r - distance < 0.0lf || has_pair(i, count, j) || full {
+            if full && !(2.0lf * r - distance < 0.0lf) {
+                flag(FLAG_PAIR_SLOTS, i);
+            }
+            neighbour_list[list + kept] = j;
+            kept += 1u;
             continue;
-        }
-        if count >= params.pair_slots {
-            flag(FLAG_PAIR_SLOTS, i);
-            break;
         }
         let nc = d / distance;
         let n1 = -nc;
@@ -216,6 +209,7 @@ fn contact_events(i: u32) {
         pair_partner[idx] = j;
         count += 1u;
     }
+    neighbour_count[i] = kept;
     pair_count[i] = count;
 
     // Form wall contacts, in wall order.

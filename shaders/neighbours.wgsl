@@ -1,7 +1,7 @@
 // requires: bindings cells math
 //
 // Neighbour passes, twin of src/cpu/neighbours.rs: candidate lists (Verlet lists) of the pairs
-// within 2r + skin, rebuilt only when some monomer has moved more than half the skin since the
+// within 2r + skin that are not in contact (the CPU's lists keep those too), rebuilt only when some monomer has moved more than half the skin since the
 // last build (integrate_drift raises FLAG_REBUILD); otherwise all three passes return at once.
 // Any pair that can touch before the next rebuild is in the lists, so the contacts pass forms
 // the same contacts as the CPU whatever the rebuild schedule.
@@ -48,7 +48,8 @@ fn neighbours_list(@builtin(global_invocation_id) id: vec3<u32>) {
                 let in_bucket = min(atomicLoad(&bucket_count[b]), params.bucket_capacity);
                 for (var k = 0u; k < in_bucket; k++) {
                     let j = bucket_items[b * params.bucket_capacity + k];
-                    if j <= i || vec_length(x - position[j].xyz) > params.cell {
+                    if j <= i || vec_length(x - position[j].xyz) > params.cell
+                        || has_pair(i, pair_count[i], j) {
                         continue;
                     }
                     // Insert in ascending order; cells sharing a bucket can offer j twice.

@@ -188,8 +188,11 @@ const DIAG_SIZE: u32 = 80u;
 @group(0) @binding(36) var<storage, read_write> partials: array<vec4<f64>>;
 @group(0) @binding(37) var<storage, read_write> flags: array<atomic<u32>>;
 @group(0) @binding(38) var<storage, read_write> diag: array<f64>;
-// Candidate lists (Verlet lists): partners j > i within 2r + skin, ascending,
-// NEIGHBOUR_CAPACITY per monomer; their lengths; positions when they were built.
+// Candidate lists (Verlet lists): the monomers j > i within 2r + skin that are not partners of
+// i, ascending, NEIGHBOUR_CAPACITY per monomer; their lengths; positions when they were built.
+// A contact that forms takes its partner out of the list and one that breaks puts it back
+// (contacts pass), so partners and candidates together are every j > i within 2r + skin at the
+// last build; the scan then tests for new contacts only the monomers that can form one.
 @group(0) @binding(39) var<storage, read_write> neighbour_list: array<u32>;
 @group(0) @binding(40) var<storage, read_write> neighbour_count: array<u32>;
 @group(0) @binding(41) var<storage, read_write> reference_position: array<vec4<f64>>;
@@ -368,6 +371,33 @@ fn push_pairs(i: u32, count: u32) {
 fn pair_slot_in_use(idx: u32) -> bool {
     let i = idx / params.pair_slots;
     return idx - i * params.pair_slots < pair_count[i];
+}
+
+// Whether j is among the first `count` partners of owner i.
+fn has_pair(i: u32, count: u32, j: u32) -> bool {
+    for (var slot = 0u; slot < count; slot++) {
+        if pair_partner[i * params.pair_slots + slot] == j {
+            return true;
+        }
+    }
+    return false;
+}
+
+// Adds j to owner i's candidate list, in ascending order (a contact of i with j broke).
+fn insert_candidate(i: u32, j: u32) {
+    let base = i * NEIGHBOUR_CAPACITY;
+    let count = neighbour_count[i];
+    if count >= NEIGHBOUR_CAPACITY {
+        flag(FLAG_NEIGHBOURS, i);
+        return;
+    }
+    var at = count;
+    while at > 0u && neighbour_list[base + at - 1u] > j {
+        neighbour_list[base + at] = neighbour_list[base + at - 1u];
+        at -= 1u;
+    }
+    neighbour_list[base + at] = j;
+    neighbour_count[i] = count + 1u;
 }
 
 // Length of work list `list`.
