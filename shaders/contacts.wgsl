@@ -49,6 +49,7 @@ fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
     // Every neighbour pass of this step is done: the lists are fresh.
     if i == 0u {
         atomicStore(&flags[FLAG_REBUILD], NO_MONOMER);
+        atomicStore(&work_args[3u * ARGS_REBUILD], 0u);
     }
     if i >= params.n {
         return;

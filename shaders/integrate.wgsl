@@ -103,6 +103,7 @@ fn integrate_drift(@builtin(global_invocation_id) id: vec3<u32>) {
     let moved = x - reference_position[i].xyz;
     if vec_dot(moved, moved) > half_skin * half_skin {
         flag(FLAG_REBUILD, i);
+        atomicMax(&work_args[3u * ARGS_REBUILD], (params.n + 63u) / 64u);
     }
 }
 

@@ -2,7 +2,8 @@
 //
 // Neighbour passes, twin of src/cpu/neighbours.rs: candidate lists (Verlet lists) of the pairs
 // within 2r + skin that are not in contact (the CPU's lists keep those too), rebuilt only when some monomer has moved more than half the skin since the
-// last build (integrate_drift raises FLAG_REBUILD); otherwise all three passes return at once.
+// last build (integrate_drift raises FLAG_REBUILD and sizes their indirect dispatches);
+// otherwise they are dispatched with no workgroups.
 // Any pair that can touch before the next rebuild is in the lists, so the contacts pass forms
 // the same contacts as the CPU whatever the rebuild schedule.
 //

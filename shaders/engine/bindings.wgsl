@@ -87,6 +87,10 @@ const WORK_WALLS: u32 = 2u;
 // The pair contacts (slot indices), for the passes that run one invocation per contact.
 const WORK_PAIRS: u32 = 3u;
 const WORK_LISTS: u32 = 4u;
+// The dispatch arguments after the lists' (work_args): the two neighbour passes, of n/64 groups
+// when integrate_drift asks for a rebuild and of none otherwise (a pass that returns at once
+// still costs lavapipe a full dispatch).
+const ARGS_REBUILD: u32 = 4u;
 // The lists of owners (in `work_list`); contacts_scan fills every list, integrate_drift
 // empties them.
 const EVENT_LISTS: u32 = 3u;

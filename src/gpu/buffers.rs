@@ -6,7 +6,7 @@
 
 use super::layout::{
     GpuParams, GpuWall, DIAG_SIZE, FLAG_COUNT, INCOMING_CAPACITY, MAX_WALLS, NEIGHBOUR_CAPACITY,
-    REDUCE_BLOCK, SLOT_CHUNKS, TALLY_STRIDE, EVENT_LISTS, WORK_LISTS,
+    REDUCE_BLOCK, SLOT_CHUNKS, TALLY_STRIDE, ARGS_REBUILD, EVENT_LISTS, WORK_LISTS,
 };
 use std::fmt;
 
@@ -201,7 +201,7 @@ impl Sizes {
             n * VEC4,
             EVENT_LISTS as u64 * n * 4,
             WORK_LISTS as u64 * 4,
-            3 * WORK_LISTS as u64 * 4,
+            3 * (ARGS_REBUILD as u64 + 1) * 4,
             // moving_walls, wall_table: the walls buffer again (ALIASES), no memory of their own.
             0,
             0,

@@ -402,8 +402,10 @@ impl GpuEngine {
         let mut work = [0u32; layout::WORK_LISTS];
         work[layout::WORK_PAIRS] = contact_list.len() as u32;
         self.write("work", &work);
-        let mut args = [0u32, 1, 1].repeat(layout::WORK_LISTS);
+        let mut args = [0u32, 1, 1].repeat(layout::ARGS_REBUILD + 1);
         args[3 * layout::WORK_PAIRS] = pair_groups;
+        // The candidate lists are built at the first neighbour passes (FLAG_REBUILD above).
+        args[3 * layout::ARGS_REBUILD] = groups(n);
         self.write("work_args", &args);
     }
 

@@ -6,7 +6,7 @@
 
 use super::buffers::{Buffers, MAX_BINDINGS_PER_PASS};
 use super::context::GpuContext;
-use super::layout::{WORK_CONTACTS, WORK_CORRECTIONS, WORK_PAIRS, WORK_WALLS};
+use super::layout::{ARGS_REBUILD, WORK_CONTACTS, WORK_CORRECTIONS, WORK_PAIRS, WORK_WALLS};
 use super::shader::{assemble_pass, Assembled, ShaderError};
 use super::spirv::entry_bindings;
 
@@ -55,13 +55,15 @@ pub enum Kernel {
 
 impl Kernel {
     /// Where in the `work_args` buffer the indirect dispatch arguments of a pass dispatched
-    /// over a work list are (bytes), or `None` for a pass dispatched over the monomers.
+    /// over a work list (or, for the neighbour passes, sized by the drift) are (bytes), or
+    /// `None` for a pass dispatched over the monomers.
     pub fn indirect_offset(self) -> Option<u64> {
         let list = match self {
             Kernel::Contacts => WORK_CONTACTS,
             Kernel::ForcesCorrections => WORK_CORRECTIONS,
             Kernel::WallContacts => WORK_WALLS,
             Kernel::IntegratePairs | Kernel::Forces => WORK_PAIRS,
+            Kernel::Neighbours | Kernel::NeighboursList => ARGS_REBUILD,
             _ => return None,
         };
         Some(12 * list as u64)

@@ -138,6 +138,8 @@ pub const WORK_WALLS: usize = 2;
 /// The pair-contact list (`contact_list`), for the passes run one invocation per contact.
 pub const WORK_PAIRS: usize = 3;
 pub const WORK_LISTS: usize = 4;
+/// Indirect dispatch arguments of the neighbour passes, after the lists' in `work_args`.
+pub const ARGS_REBUILD: usize = 4;
 /// The lists in `work_list` (filled by contacts_scan, emptied by integrate_drift).
 pub const EVENT_LISTS: usize = 3;
 pub const WORK_GROUP: usize = 8;
@@ -302,6 +304,7 @@ mod tests {
             ("WORK_WALLS", WORK_WALLS),
             ("WORK_PAIRS", WORK_PAIRS),
             ("WORK_LISTS", WORK_LISTS),
+            ("ARGS_REBUILD", ARGS_REBUILD),
             ("EVENT_LISTS", EVENT_LISTS),
             ("WORK_GROUP", WORK_GROUP),
             ("PAIR_GROUP", PAIR_GROUP),
