@@ -88,10 +88,13 @@ fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
         let touching = !(2.0lf * r - vec_length(x - position[j].xyz) < 0.0lf);
         forming += select(0u, 1u, touching);
     }
+    // A loop of constant length, which the compiler unrolls: each wall is then read at a
+    // constant offset, which llvmpipe loads once per SIMD group (a uniform read at a loop
+    // counter is read lane by lane).
     var touching_walls = 0u;
-    for (var w = 0u; w < params.wall_count; w++) {
+    for (var w = 0u; w < MAX_WALLS; w++) {
         let touching = !(wall_overlap(x, walls[w].point.xyz, walls[w].normal.xyz, r) < 0.0lf);
-        touching_walls += select(0u, 1u, touching);
+        touching_walls += select(0u, 1u, touching && w < params.wall_count);
     }
     let forms_wall_contact = touching_walls > touching_wall_contacts;
     event = event || forming > 0u || forms_wall_contact;
