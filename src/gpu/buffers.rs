@@ -5,8 +5,8 @@
 //! once for a fixed N and slot counts; nothing is reallocated while the engine runs.
 
 use super::layout::{
-    GpuParams, GpuWall, DIAG_SIZE, FLAG_COUNT, INCOMING_CAPACITY, MAX_WALLS, NEIGHBOUR_CAPACITY,
-    REDUCE_BLOCK, SLOT_CHUNKS, TALLY_STRIDE, ARGS_REBUILD, EVENT_LISTS, WORK_LISTS,
+    GpuParams, GpuWall, ARGS_REBUILD, DIAG_SIZE, EVENT_LISTS, FLAG_COUNT, INCOMING_CAPACITY,
+    MAX_WALLS, NEIGHBOUR_CAPACITY, REDUCE_BLOCK, SLOT_CHUNKS, TALLY_STRIDE, WORK_LISTS,
 };
 use std::fmt;
 
@@ -352,17 +352,17 @@ impl Buffers {
                 continue;
             }
             bindings.push(device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(name),
-                    size: bytes.max(64).next_multiple_of(8),
-                    // Indirect dispatch arguments, written on the device.
-                    usage: match *name {
-                        "work_args" => STORAGE | wgpu::BufferUsages::INDIRECT,
-                        // Bound as `var<uniform>` (kernels::buffer_binding_type).
-                        "params" | "walls" => STORAGE | wgpu::BufferUsages::UNIFORM,
-                        _ => STORAGE,
-                    },
-                    mapped_at_creation: false,
-                }));
+                label: Some(name),
+                size: bytes.max(64).next_multiple_of(8),
+                // Indirect dispatch arguments, written on the device.
+                usage: match *name {
+                    "work_args" => STORAGE | wgpu::BufferUsages::INDIRECT,
+                    // Bound as `var<uniform>` (kernels::buffer_binding_type).
+                    "params" | "walls" => STORAGE | wgpu::BufferUsages::UNIFORM,
+                    _ => STORAGE,
+                },
+                mapped_at_creation: false,
+            }));
         }
         let small_readback = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("small readback"),

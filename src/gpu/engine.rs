@@ -396,8 +396,8 @@ impl GpuEngine {
                 first..first + table.pair_count[i]
             })
             .collect();
-        let pair_groups = (contact_list.len().div_ceil(layout::PAIR_GROUP) as u32)
-            .min(self.work_groups_max);
+        let pair_groups =
+            (contact_list.len().div_ceil(layout::PAIR_GROUP) as u32).min(self.work_groups_max);
         self.write("contact_list", &contact_list);
         let mut work = [0u32; layout::WORK_LISTS];
         work[layout::WORK_PAIRS] = contact_list.len() as u32;
