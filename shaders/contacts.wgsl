@@ -43,7 +43,7 @@ fn beyond_limits(x1: vec3<f64>, x2: vec3<f64>, n1: vec3<f64>, n2: vec3<f64>, twi
 // forms, so the pair-contact list needs no pass after the events. The lists were
 // emptied by integrate_drift (or are fresh from the upload); a second scan before the next
 // drift would list owners twice.
-@compute @workgroup_size(64)
+@compute @workgroup_size(MONOMER_GROUP)
 fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     // Every neighbour pass of this step is done: the lists are fresh.
@@ -126,7 +126,7 @@ fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
 
 // The events of the owners `contacts_scan` listed (dispatched indirectly over that list; each
 // invocation takes every stride-th entry, as the dispatch holds at most work_groups_max groups).
-@compute @workgroup_size(8)
+@compute @workgroup_size(WORK_GROUP)
 fn contacts(
     @builtin(global_invocation_id) id: vec3<u32>,
     @builtin(num_workgroups) groups: vec3<u32>,
@@ -243,7 +243,7 @@ fn contact_events(i: u32) {
 
 // Contacts present at the start are part of the initial state, not a dissipation
 // (CpuEngine::new resets the tally after its first update_contacts).
-@compute @workgroup_size(64)
+@compute @workgroup_size(MONOMER_GROUP)
 fn contacts_clear_tally(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     if i >= params.n {

@@ -22,7 +22,7 @@
 // sliding, twisting, each booked per channel as the drop of the contact's step energy.
 // Each invocation takes every stride-th entry, as the dispatch holds at most work_groups_max
 // groups.
-@compute @workgroup_size(8)
+@compute @workgroup_size(WORK_GROUP)
 fn forces_corrections(
     @builtin(global_invocation_id) id: vec3<u32>,
     @builtin(num_workgroups) groups: vec3<u32>,
@@ -77,7 +77,7 @@ fn apply_inelastic_limits(i: u32) {
 // JKR, damping, rolling, sliding and twisting of every pair contact, after the corrections: one
 // invocation per contact (the list contacts_scan built for this step's events; each
 // invocation takes every stride-th entry, as a dispatch holds at most work_groups_max groups).
-@compute @workgroup_size(64)
+@compute @workgroup_size(PAIR_GROUP)
 fn forces(
     @builtin(global_invocation_id) id: vec3<u32>,
     @builtin(num_workgroups) groups: vec3<u32>,

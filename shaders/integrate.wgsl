@@ -11,7 +11,7 @@
 // own spin), integrate_pairs (pair pointers and twist, per contact), integrate_drift.
 // integrate_start is the half-step shift of the initial velocities (CpuEngine::new).
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(MONOMER_GROUP)
 fn integrate_kick(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     if i >= params.n {
@@ -37,7 +37,7 @@ fn integrate_kick(@builtin(global_invocation_id) id: vec3<u32>) {
 // One invocation per pair contact (the list contacts_scan built for the last contact
 // events; each invocation takes every stride-th entry, as a dispatch holds at most
 // work_groups_max groups).
-@compute @workgroup_size(64)
+@compute @workgroup_size(PAIR_GROUP)
 fn integrate_pairs(
     @builtin(global_invocation_id) id: vec3<u32>,
     @builtin(num_workgroups) groups: vec3<u32>,
@@ -70,7 +70,7 @@ fn turn_pair_pointers(idx: u32) {
     store_pair_n2(idx, vec4<f64>(rotate_pointer(b.xyz, wj * dt), 0.0lf));
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(MONOMER_GROUP)
 fn integrate_drift(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     if i < params.wall_count {
@@ -103,11 +103,11 @@ fn integrate_drift(@builtin(global_invocation_id) id: vec3<u32>) {
     let moved = x - reference_position[i].xyz;
     if vec_dot(moved, moved) > half_skin * half_skin {
         flag(FLAG_REBUILD, i);
-        atomicMax(&work_args[3u * ARGS_REBUILD], (params.n + 63u) / 64u);
+        atomicMax(&work_args[3u * ARGS_REBUILD], (params.n + MONOMER_GROUP - 1u) / MONOMER_GROUP);
     }
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(MONOMER_GROUP)
 fn integrate_start(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     if i >= params.n {
@@ -123,7 +123,7 @@ fn integrate_start(@builtin(global_invocation_id) id: vec3<u32>) {
 
 // After the initial force evaluation: the damping and wall-work channels book work over a step,
 // and there is no step before time 0.
-@compute @workgroup_size(64)
+@compute @workgroup_size(MONOMER_GROUP)
 fn integrate_clear_work(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     if i >= params.n {

@@ -17,7 +17,7 @@ fn rebuild_due() -> bool {
     return atomicLoad(&flags[FLAG_REBUILD]) != NO_MONOMER;
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(MONOMER_GROUP)
 fn neighbours(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     if i >= params.n || !rebuild_due() {
@@ -32,7 +32,7 @@ fn neighbours(@builtin(global_invocation_id) id: vec3<u32>) {
     }
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(MONOMER_GROUP)
 fn neighbours_list(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     if i >= params.n || !rebuild_due() {

@@ -8,7 +8,7 @@
 // - reduce_diagnostics (when the host reads the block): the per-monomer energy tallies and the
 //   contact counts, by one workgroup: strided partial sums, then added in invocation order.
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(MONOMER_GROUP)
 fn reduce_walls(@builtin(global_invocation_id) id: vec3<u32>) {
     let block = id.x;
     let first = block * REDUCE_BLOCK;

@@ -16,7 +16,7 @@
 // wall contacts' Σ_w F_w·v_w dt from the previous step in `aux`) in its own cumulative tally,
 // summed over monomers only when the diagnostics block is read: same terms, another order.
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(MONOMER_GROUP)
 fn wall_forces(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     if i >= params.n {
@@ -86,7 +86,7 @@ fn wall_forces(@builtin(global_invocation_id) id: vec3<u32>) {
 // at most work_groups_max groups): inelastic limits, then forces, stored per slot for
 // wall_forces. Few monomers touch a wall, and lavapipe would run this for every monomer of a
 // SIMD group in which one does.
-@compute @workgroup_size(8)
+@compute @workgroup_size(WORK_GROUP)
 fn wall_contacts(
     @builtin(global_invocation_id) id: vec3<u32>,
     @builtin(num_workgroups) groups: vec3<u32>,

@@ -97,6 +97,9 @@ const EVENT_LISTS: u32 = 3u;
 const WORK_GROUP: u32 = 8u;
 // Workgroup size of the passes over the pair-contact list.
 const PAIR_GROUP: u32 = 64u;
+// Workgroup size of the passes with one invocation per monomer (gpu::engine dispatches
+// ⌈n / MONOMER_GROUP⌉ groups; integrate_drift sizes the neighbour passes alike).
+const MONOMER_GROUP: u32 = 64u;
 
 // Overflow and failure flags: the lowest monomer index concerned, or NO_MONOMER.
 const NO_MONOMER: u32 = 0xffffffffu;
@@ -327,10 +330,6 @@ fn load_pair_result(idx: u32) -> PairResult {
         c = pair_result_c_2[at.y];
     }
     return PairResult(a.xyz, vec3<f64>(a.w, b.x, b.y), vec3<f64>(b.zw, c.x), c.yzw);
-}
-
-fn wall_at(w: u32) -> Wall {
-    return walls[w];
 }
 
 fn add_tally(i: u32, channel: u32, value: f64) {

@@ -143,7 +143,7 @@ pub struct GpuEngine {
 }
 
 fn groups(n: usize) -> u32 {
-    n.div_ceil(64).max(1) as u32
+    n.div_ceil(layout::MONOMER_GROUP).max(1) as u32
 }
 
 impl GpuEngine {
@@ -441,7 +441,7 @@ impl GpuEngine {
     pub fn limit_work_groups(&mut self, max: u32) {
         self.work_groups_max = max.clamp(1, self.work_groups_max);
         self.write("params", &[self.params()]);
-        // The pair-contact list's dispatch as contacts_list would size it now.
+        // The pair-contact list's dispatch as contacts_scan would size it now.
         let pairs = self.read::<u32>("work", layout::WORK_LISTS)[layout::WORK_PAIRS];
         let groups = (pairs as usize).div_ceil(layout::PAIR_GROUP) as u32;
         self.ctx.queue.write_buffer(

@@ -247,6 +247,52 @@ mod tests {
     }
 
     #[test]
+    fn workgroup_sizes_are_the_ones_the_dispatches_are_sized_for() {
+        use crate::gpu::layout::{DIAG_THREADS, MONOMER_GROUP, PAIR_GROUP, WORK_GROUP};
+        let kernels = [
+            Kernel::IntegrateKick,
+            Kernel::IntegratePairs,
+            Kernel::IntegrateDrift,
+            Kernel::Neighbours,
+            Kernel::NeighboursList,
+            Kernel::ContactsScan,
+            Kernel::Contacts,
+            Kernel::ForcesCorrections,
+            Kernel::Forces,
+            Kernel::WallContacts,
+            Kernel::WallForces,
+            Kernel::ReduceWalls,
+            Kernel::ReduceWallsFinal,
+            Kernel::ReduceDiagnostics,
+            Kernel::IntegrateStart,
+            Kernel::IntegrateClearWork,
+            Kernel::ContactsClearTally,
+        ];
+        assert_eq!(kernels.len(), ENTRY_POINTS.len());
+        for kernel in kernels {
+            let (pass, entry) = ENTRY_POINTS[kernel as usize];
+            let (module, _) = assemble_pass(pass).unwrap().validate().unwrap();
+            let size = module
+                .entry_points
+                .iter()
+                .find(|e| e.name == entry)
+                .unwrap()
+                .workgroup_size[0] as usize;
+            let expected = match kernel {
+                // Walked over a list with a stride of groups × this size.
+                Kernel::Contacts | Kernel::ForcesCorrections | Kernel::WallContacts => WORK_GROUP,
+                Kernel::IntegratePairs | Kernel::Forces => PAIR_GROUP,
+                // One workgroup, whatever its size.
+                Kernel::ReduceWallsFinal => size,
+                Kernel::ReduceDiagnostics => DIAG_THREADS,
+                // ⌈n / MONOMER_GROUP⌉ groups (the host's `groups`, the drift's rebuild size).
+                _ => MONOMER_GROUP,
+            };
+            assert_eq!(size, expected, "{entry}");
+        }
+    }
+
+    #[test]
     fn every_binding_is_used_by_some_pass() {
         let all = per_entry_point();
         for (b, name) in BINDINGS.iter().enumerate() {

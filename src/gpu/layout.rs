@@ -145,6 +145,8 @@ pub const EVENT_LISTS: usize = 3;
 pub const WORK_GROUP: usize = 8;
 /// Workgroup size of the passes over the pair-contact list.
 pub const PAIR_GROUP: usize = 64;
+/// Workgroup size of the passes with one invocation per monomer.
+pub const MONOMER_GROUP: usize = 64;
 pub const DIAG_THREADS: usize = 64;
 pub const TALLY_STRIDE: usize = 8;
 pub const DIAG_PAIR_CONTACTS: usize = 8;
@@ -308,6 +310,7 @@ mod tests {
             ("EVENT_LISTS", EVENT_LISTS),
             ("WORK_GROUP", WORK_GROUP),
             ("PAIR_GROUP", PAIR_GROUP),
+            ("MONOMER_GROUP", MONOMER_GROUP),
             ("NO_MONOMER", NO_MONOMER as usize),
         ] {
             assert_eq!(constant(name), value as u64, "{name}");
