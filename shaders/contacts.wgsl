@@ -19,28 +19,12 @@ fn has_wall(i: u32, count: u32, w: u32) -> bool {
     return false;
 }
 
-// Whether a contact needs any inelastic correction in forces_corrections: the tests that open
-// the corrections in rolling_correction, sliding_correction and twisting_correction, on the
-// contact as stored. If rolling needs none, sliding is tested on the same pointers as there; if
-// it does, the owner is listed anyway. Tested before this step's events, which is the same:
-// the events leave surviving contacts as they are, and a new contact starts with ξ = 0,
-// twist 0 and |ζ| at rounding level.
-fn beyond_limits(x1: vec3<f64>, x2: vec3<f64>, n1: vec3<f64>, n2: vec3<f64>, twist: f64) -> bool {
-    let k = params.pair;
-    let r = params.radius;
-    let nc = vec_normalize(x1 - x2);
-    let rolls = !(vec_length(n1 + n2) * k.reduced_radius <= k.xi_crit);
-    let slides = !(vec_length(sliding_displacement(n1, n2, nc, r, r)) <= k.zeta_crit);
-    let twists = abs(twist) > k.phi_crit;
-    return rolls || slides || twists;
-}
-
 // Lists the owners that have a contact event this step (a contact to break or one to form,
 // tested exactly as `contacts` tests them, so an owner left out has nothing to do there), the
 // owners with a contact beyond an inelastic limit (for forces_corrections), the monomers with
 // wall contacts (wall_contacts) and the pair contacts as the events will leave them (the
-// contact-parallel passes). The same tests give the number of contacts each owner breaks and
-// forms, so the pair-contact list needs no pass after the events. The lists were
+// contact-parallel passes). The number of contacts each owner can form bounds its slots after
+// the events, so the pair-contact list needs no pass after the events. The lists were
 // emptied by integrate_drift (or are fresh from the upload); a second scan before the next
 // drift would list owners twice.
 @compute @workgroup_size(MONOMER_GROUP)
@@ -57,22 +41,11 @@ fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
     let r = params.radius;
     let x = position[i].xyz;
     let count = pair_count[i];
-    var event = false;
-    var beyond = false;
-    // A contact forms with every touching candidate (the candidate lists hold no partners, see
-    // neighbours_list). A wall contact forms when more walls touch than wall contacts do
-    // (counting avoids a search of the slots per wall).
-    var breaking = 0u;
-    for (var slot = 0u; slot < count; slot++) {
-        let idx = i * params.pair_slots + slot;
-        let x2 = position[pair_partner[idx]].xyz;
-        let delta = 2.0lf * r - vec_length(x - x2);
-        let breaks = delta < -params.pair.delta_c;
-        event = event || breaks;
-        breaking += select(0u, 1u, breaks);
-        let stored_n1 = load_pair_n1(idx);
-        beyond = beyond || beyond_limits(x, x2, stored_n1.xyz, load_pair_n2(idx).xyz, stored_n1.w);
-    }
+    // The pair contacts' tests ran per contact, in integrate_pairs (contacts_pair_tests after
+    // an upload): a loop over each owner's slots here kept most SIMD lanes idle.
+    let tests = atomicLoad(&pair_tests[i]);
+    var event = (tests & PAIR_TEST_BREAKS) != 0u;
+    let beyond = (tests & PAIR_TEST_BEYOND) != 0u;
     let wcount = wall_count[i];
     var touching_wall_contacts = 0u;
     for (var slot = 0u; slot < wcount; slot++) {
@@ -109,12 +82,13 @@ fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
     if beyond {
         push_work(WORK_CORRECTIONS, i);
     }
-    // The pair contacts: the slots below the count before or after the events, whichever is
-    // larger (breaking contacts are swapped out and new ones appended, as many as fit;
-    // contact_events flags the rest). The passes over the list skip a slot at or above the
-    // owner's count, so the list also serves a state whose events have not run.
-    let after_events = min(count - breaking + forming, params.pair_slots);
-    let listed = max(count, after_events);
+    // The pair contacts: the slots below the count before the events plus the contacts that
+    // can form (as many as fit; contact_events flags the rest), a bound on the count before
+    // and after the events (breaking contacts are swapped out, new ones appended). The passes
+    // over the list skip a slot at or above the owner's count, so the list also serves a state
+    // whose events have not run, and an owner whose contacts both break and form lists a few
+    // empty slots.
+    let listed = min(count + forming, params.pair_slots);
     if listed > 0u {
         push_pairs(i, listed);
     }
@@ -251,5 +225,27 @@ fn contacts_clear_tally(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     for (var c = 0u; c < TALLY_STRIDE; c++) {
         tally[i * TALLY_STRIDE + c] = 0.0lf;
+    }
+}
+
+// The tests of contacts_scan for every listed pair contact, on the state as it is: after an
+// upload, where no integrate_pairs ran since the bits were cleared (gpu::engine::upload).
+@compute @workgroup_size(PAIR_GROUP)
+fn contacts_pair_tests(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+) {
+    let stride = groups.x * PAIR_GROUP;
+    let length = work_length(WORK_PAIRS);
+    for (var k = id.x; k < length; k += stride) {
+        let idx = contact_list[k];
+        if pair_slot_in_use(idx) {
+            let i = idx / params.pair_slots;
+            let stored_n1 = load_pair_n1(idx);
+            test_pair_contact(
+                i, position[i].xyz, position[pair_partner[idx]].xyz,
+                stored_n1.xyz, load_pair_n2(idx).xyz, stored_n1.w,
+            );
+        }
     }
 }

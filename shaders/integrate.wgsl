@@ -1,4 +1,4 @@
-// requires: bindings pointer twisting math
+// requires: bindings interaction pointer twisting math
 //
 // Leap-frog pass, twin of src/cpu/integrate.rs: kick v(n−½) → v(n+½) with the forces at n, turn
 // contact pointers and advance twist integrals with the mid-step angular velocities, drift
@@ -23,6 +23,8 @@ fn integrate_kick(@builtin(global_invocation_id) id: vec3<u32>) {
     let w = angular_velocity[i].xyz + torque[i].xyz * (dt * params.inverse_inertia * s.y);
     velocity[i] = vec4<f64>(v, 0.0lf);
     angular_velocity[i] = vec4<f64>(w, 0.0lf);
+    // For this step's tests in integrate_pairs.
+    atomicStore(&pair_tests[i], 0u);
     // Wall contacts need only the monomer's own mid-step spin.
     let turn = w * dt;
     for (var slot = 0u; slot < wall_count[i]; slot++) {
@@ -52,7 +54,11 @@ fn integrate_pairs(
     }
 }
 
-// Turns both pointers of the pair contact in slot `idx` and advances its twist integral.
+// Turns both pointers of the pair contact in slot `idx` and advances its twist integral; then
+// tests the contact for contacts_scan, at the positions integrate_drift is about to store
+// (x + v dt, the drift's own expression: the same bits where the device does not fuse
+// operations, FloatMode::Exact; where it may, a test at the threshold can differ by rounding
+// and the event comes one step later).
 fn turn_pair_pointers(idx: u32) {
     let dt = params.dt;
     let i = idx / params.pair_slots;
@@ -61,13 +67,18 @@ fn turn_pair_pointers(idx: u32) {
     let wj = angular_velocity[j].xyz;
     let a = load_pair_n1(idx);
     let b = load_pair_n2(idx);
+    let xi = position[i].xyz;
+    let xj = position[j].xyz;
+    let vi = velocity[i].xyz;
+    let vj = velocity[j].xyz;
     // Contact normal at mid-step, x(n+½) = x(n) + v(n+½) dt/2.
-    let nc_mid = vec_normalize(
-        (position[i].xyz - position[j].xyz) + (velocity[i].xyz - velocity[j].xyz) * (0.5lf * dt)
-    );
+    let nc_mid = vec_normalize((xi - xj) + (vi - vj) * (0.5lf * dt));
     let twist = a.w + twist_increment(wi - wj, nc_mid, dt);
-    store_pair_n1(idx, vec4<f64>(rotate_pointer(a.xyz, wi * dt), twist));
-    store_pair_n2(idx, vec4<f64>(rotate_pointer(b.xyz, wj * dt), 0.0lf));
+    let n1 = rotate_pointer(a.xyz, wi * dt);
+    let n2 = rotate_pointer(b.xyz, wj * dt);
+    store_pair_n1(idx, vec4<f64>(n1, twist));
+    store_pair_n2(idx, vec4<f64>(n2, 0.0lf));
+    test_pair_contact(i, xi + vi * params.dt, xj + vj * params.dt, n1, n2, twist);
 }
 
 @compute @workgroup_size(MONOMER_GROUP)

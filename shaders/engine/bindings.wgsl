@@ -101,6 +101,11 @@ const PAIR_GROUP: u32 = 64u;
 // ⌈n / MONOMER_GROUP⌉ groups; integrate_drift sizes the neighbour passes alike).
 const MONOMER_GROUP: u32 = 64u;
 
+// Bits of `pair_tests`: a contact of the owner will break at the coming contact events (δ <
+// −δ_c); a contact is beyond an inelastic limit.
+const PAIR_TEST_BREAKS: u32 = 1u;
+const PAIR_TEST_BEYOND: u32 = 2u;
+
 // Overflow and failure flags: the lowest monomer index concerned, or NO_MONOMER.
 const NO_MONOMER: u32 = 0xffffffffu;
 const FLAG_PAIR_SLOTS: u32 = 0u;
@@ -229,6 +234,10 @@ const DIAG_SIZE: u32 = 80u;
 @group(0) @binding(47) var<storage, read_write> contact_list: array<u32>;
 @group(0) @binding(48) var<storage, read_write> wall_damping: array<vec4<f64>>;
 @group(0) @binding(49) var<storage, read_write> wall_torque: array<vec4<f64>>;
+// What the contact-parallel tests found for each owner's pair contacts, as PAIR_TEST_* bits:
+// cleared by integrate_kick, set by integrate_pairs (or contacts_pair_tests), read by
+// contacts_scan.
+@group(0) @binding(50) var<storage, read_write> pair_tests: array<atomic<u32>>;
 
 // Which binding of a per-slot array holds slot index `idx`, and where: (chunk, element).
 fn slot_chunk_of(idx: u32) -> vec2<u32> {

@@ -122,3 +122,31 @@ fn wall_step_energy(i: u32, wall: Wall, n1: vec3<f64>, anchor: vec3<f64>, twist:
     let work = vec_dot(it.f - it.fd, v - wall.velocity.xyz) + vec_dot(it.m, angular_velocity[i].xyz);
     return wall_contact_potential(x, wall, n1, anchor, twist) + 0.5lf * params.dt * work;
 }
+
+// Whether a contact needs any inelastic correction in forces_corrections: the tests that open
+// the corrections in rolling_correction, sliding_correction and twisting_correction, on the
+// contact as stored. If rolling needs none, sliding is tested on the same pointers as there; if
+// it does, the owner is listed anyway. Tested before this step's events, which is the same:
+// the events leave surviving contacts as they are, and a new contact starts with ξ = 0,
+// twist 0 and |ζ| at rounding level.
+fn beyond_limits(x1: vec3<f64>, x2: vec3<f64>, n1: vec3<f64>, n2: vec3<f64>, twist: f64) -> bool {
+    let k = params.pair;
+    let r = params.radius;
+    let nc = vec_normalize(x1 - x2);
+    let rolls = !(vec_length(n1 + n2) * k.reduced_radius <= k.xi_crit);
+    let slides = !(vec_length(sliding_displacement(n1, n2, nc, r, r)) <= k.zeta_crit);
+    let twists = abs(twist) > k.phi_crit;
+    return rolls || slides || twists;
+}
+
+// The tests contacts_scan needs of one pair contact of owner `i`, on the positions, pointers
+// and twist the contact events will see: whether it breaks (δ < −δ_c, as contact_events tests
+// it) and whether it is beyond a limit, recorded in the owner's `pair_tests` bits.
+fn test_pair_contact(i: u32, x1: vec3<f64>, x2: vec3<f64>, n1: vec3<f64>, n2: vec3<f64>, twist: f64) {
+    let delta = 2.0lf * params.radius - vec_length(x1 - x2);
+    var bits = select(0u, PAIR_TEST_BREAKS, delta < -params.pair.delta_c);
+    bits |= select(0u, PAIR_TEST_BEYOND, beyond_limits(x1, x2, n1, n2, twist));
+    if bits != 0u {
+        atomicOr(&pair_tests[i], bits);
+    }
+}

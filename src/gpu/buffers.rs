@@ -15,7 +15,7 @@ const VEC4: u64 = 32;
 
 /// Binding names in binding order (index = binding number of bindings.wgsl). A per-slot
 /// vector array is [`SLOT_CHUNKS`] bindings, `<array>_0` … `<array>_2`.
-pub const BINDINGS: [&str; 50] = [
+pub const BINDINGS: [&str; 51] = [
     "params",
     "walls",
     "position",
@@ -66,6 +66,7 @@ pub const BINDINGS: [&str; 50] = [
     "contact_list",
     "wall_damping",
     "wall_torque",
+    "pair_tests",
 ];
 
 /// Bindings that are another binding's buffer under a second declaration: (alias, buffer).
@@ -149,7 +150,7 @@ impl Sizes {
     }
 
     /// Bytes of every binding, in binding order.
-    pub fn binding_bytes(&self) -> [u64; 50] {
+    pub fn binding_bytes(&self) -> [u64; 51] {
         let n = self.monomers as u64;
         let ws = self.wall_slots as u64;
         let ps = self.pair_slots as u64;
@@ -208,6 +209,7 @@ impl Sizes {
             n * ps * 4,
             n * ws * VEC4,
             n * ws * VEC4,
+            n * 4,
         ]
     }
 

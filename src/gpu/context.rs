@@ -180,6 +180,20 @@ pub struct GpuContext {
     pub failure: Arc<Mutex<Option<String>>>,
 }
 
+/// wgpu's default instance without `VALIDATION_INDIRECT_CALL`. That validation (on in release
+/// builds too) puts a dispatch of its own before every indirect dispatch, to clamp arguments
+/// beyond the device's limits; ours cannot be: every indirect argument is written on the device
+/// clamped to `work_groups_max`, the adapter's per-dimension limit (`push_work`, `push_pairs`),
+/// and N itself is checked against that limit before any buffer exists. On lavapipe the extra
+/// dispatches cost about 25 µs each, seven per step.
+fn instance_descriptor() -> wgpu::InstanceDescriptor {
+    let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle();
+    descriptor
+        .flags
+        .remove(wgpu::InstanceFlags::VALIDATION_INDIRECT_CALL);
+    descriptor
+}
+
 impl GpuContext {
     /// Picks the best adapter with `SHADER_F64` and the required limits, and makes a device
     /// with every limit the adapter offers.
@@ -188,7 +202,7 @@ impl GpuContext {
     }
 
     pub async fn new_async(requirements: &Requirements) -> Result<Self, ContextError> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle());
+        let instance = wgpu::Instance::new(instance_descriptor());
         let adapters = instance.enumerate_adapters(wgpu::Backends::all()).await;
         if adapters.is_empty() {
             return Err(ContextError::NoAdapter);

@@ -407,6 +407,9 @@ impl GpuEngine {
         // The candidate lists are built at the first neighbour passes (FLAG_REBUILD above).
         args[3 * layout::ARGS_REBUILD] = groups(n);
         self.write("work_args", &args);
+        // The pair contacts' tests for a first contacts_scan, which no integrate_pairs precedes.
+        self.write("pair_tests", &vec![0u32; n]);
+        self.dispatch(&[Kernel::ContactsPairTests]);
     }
 
     /// Empties the work lists, as integrate_drift does before each step's scan (tests that

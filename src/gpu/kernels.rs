@@ -11,7 +11,7 @@ use super::shader::{assemble_pass, Assembled, ShaderError};
 use super::spirv::entry_bindings;
 
 /// Entry points in step order, with the pass file (without `.wgsl`) that holds each.
-pub const ENTRY_POINTS: [(&str, &str); 17] = [
+pub const ENTRY_POINTS: [(&str, &str); 18] = [
     ("integrate", "integrate_kick"),
     ("integrate", "integrate_pairs"),
     ("integrate", "integrate_drift"),
@@ -29,6 +29,7 @@ pub const ENTRY_POINTS: [(&str, &str); 17] = [
     ("integrate", "integrate_start"),
     ("integrate", "integrate_clear_work"),
     ("contacts", "contacts_clear_tally"),
+    ("contacts", "contacts_pair_tests"),
 ];
 
 /// Index of an entry point in [`ENTRY_POINTS`].
@@ -51,6 +52,7 @@ pub enum Kernel {
     IntegrateStart,
     IntegrateClearWork,
     ContactsClearTally,
+    ContactsPairTests,
 }
 
 impl Kernel {
@@ -62,7 +64,7 @@ impl Kernel {
             Kernel::Contacts => WORK_CONTACTS,
             Kernel::ForcesCorrections => WORK_CORRECTIONS,
             Kernel::WallContacts => WORK_WALLS,
-            Kernel::IntegratePairs | Kernel::Forces => WORK_PAIRS,
+            Kernel::IntegratePairs | Kernel::Forces | Kernel::ContactsPairTests => WORK_PAIRS,
             Kernel::Neighbours | Kernel::NeighboursList => ARGS_REBUILD,
             _ => return None,
         };
@@ -267,6 +269,7 @@ mod tests {
             Kernel::IntegrateStart,
             Kernel::IntegrateClearWork,
             Kernel::ContactsClearTally,
+            Kernel::ContactsPairTests,
         ];
         assert_eq!(kernels.len(), ENTRY_POINTS.len());
         for kernel in kernels {
@@ -281,7 +284,7 @@ mod tests {
             let expected = match kernel {
                 // Walked over a list with a stride of groups × this size.
                 Kernel::Contacts | Kernel::ForcesCorrections | Kernel::WallContacts => WORK_GROUP,
-                Kernel::IntegratePairs | Kernel::Forces => PAIR_GROUP,
+                Kernel::IntegratePairs | Kernel::Forces | Kernel::ContactsPairTests => PAIR_GROUP,
                 // One workgroup, whatever its size.
                 Kernel::ReduceWallsFinal => size,
                 Kernel::ReduceDiagnostics => DIAG_THREADS,
