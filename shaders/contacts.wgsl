@@ -1,4 +1,4 @@
-// requires: bindings cells interaction wall sliding math
+// requires: bindings cells owner interaction wall rolling sliding twisting math
 //
 // Contact maintenance pass, twin of update_contacts in src/cpu/contacts.rs: breaks stretched
 // contacts (δ < −δ_c) and forms new ones (δ ≥ 0), keeping the history of every contact that
@@ -21,8 +21,8 @@ fn has_wall(i: u32, count: u32, w: u32) -> bool {
 
 // Lists the owners that have a contact event this step (a contact to break or one to form,
 // tested exactly as `contacts` tests them, so an owner left out has nothing to do there), the
-// owners with a contact beyond an inelastic limit (for forces_corrections), the monomers with
-// wall contacts (wall_contacts) and the pair contacts as the events will leave them (the
+// owners with a contact beyond an inelastic limit, the monomers with wall contacts (one list
+// for the contacts pass, with what each owner needs) and the pair contacts as the events will leave them (the
 // contact-parallel passes). The number of contacts each owner can form bounds its slots after
 // the events, so the pair-contact list needs no pass after the events. The lists were
 // emptied by integrate_drift (or are fresh from the upload); a second scan before the next
@@ -71,16 +71,12 @@ fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let forms_wall_contact = touching_walls > touching_wall_contacts;
     event = event || forming > 0u || forms_wall_contact;
-    if event {
-        push_work(WORK_CONTACTS, i);
-    }
-    // Every monomer that has a wall contact after this step's events (a superset: some of
-    // these contacts may break).
-    if wcount > 0u || forms_wall_contact {
-        push_work(WORK_WALLS, i);
-    }
-    if beyond {
-        push_work(WORK_CORRECTIONS, i);
+    // Walls: every monomer that has a wall contact after this step's events (a superset: some
+    // of these contacts may break).
+    let work = select(0u, OWNER_EVENTS, event) | select(0u, OWNER_CORRECTIONS, beyond)
+        | select(0u, OWNER_WALLS, wcount > 0u || forms_wall_contact);
+    if work != 0u {
+        push_work(WORK_CONTACTS, i | work);
     }
     // The pair contacts: the slots below the count before the events plus the contacts that
     // can form (as many as fit; contact_events flags the rest), a bound on the count before
@@ -98,8 +94,12 @@ fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
     atomicStore(&bucket_count[bucket_of(cell_of(reference_position[i].xyz))], 0u);
 }
 
-// The events of the owners `contacts_scan` listed (dispatched indirectly over that list; each
-// invocation takes every stride-th entry, as the dispatch holds at most work_groups_max groups).
+// The events of the owners `contacts_scan` listed, then the inelastic corrections of their
+// pair contacts, then their wall contacts' limits and forces (engine/owner.wgsl; the order of
+// the CPU, which applies the limits at the start of the force computation). An owner's events,
+// corrections and wall contacts touch only its own slots and tally, so one invocation per
+// owner does all of them. Dispatched indirectly over the list; each invocation takes every
+// stride-th entry, as the dispatch holds at most work_groups_max groups.
 @compute @workgroup_size(WORK_GROUP)
 fn contacts(
     @builtin(global_invocation_id) id: vec3<u32>,
@@ -108,7 +108,17 @@ fn contacts(
     let stride = groups.x * WORK_GROUP;
     let length = work_length(WORK_CONTACTS);
     for (var k = id.x; k < length; k += stride) {
-        contact_events(work_item(WORK_CONTACTS, k));
+        let item = work_item(WORK_CONTACTS, k);
+        let i = item & OWNER_INDEX;
+        if (item & OWNER_EVENTS) != 0u {
+            contact_events(i);
+        }
+        if (item & OWNER_CORRECTIONS) != 0u {
+            apply_inelastic_limits(i);
+        }
+        if (item & OWNER_WALLS) != 0u {
+            wall_contacts_of(i);
+        }
     }
 }
 

@@ -1,4 +1,4 @@
-// requires: bindings interaction rolling sliding twisting math
+// requires: bindings owner interaction rolling sliding twisting math
 //
 // Monomer–monomer force pass, twin of pair_forces in src/cpu/forces.rs: inelastic corrections
 // first (booked per channel as the drop of the contact's step energy), then JKR, damping,
@@ -12,65 +12,29 @@
 //
 // The corrections are rare and expensive (each books two step energies, i.e. two more contact
 // evaluations), and lavapipe runs every branch for every invocation. So `contacts_scan` lists
-// the owners with a contact beyond a limit (`beyond_limits` in contacts.wgsl),
-// `forces_corrections` applies the limits for just those owners (dispatched indirectly over the
-// list), and `forces` evaluates the contacts. The
-// order within one contact (corrections, then forces) and the order of the tally additions
-// (slot by slot, per channel) are the CPU's, so the results are the same bits.
+// the owners with a contact beyond a limit (`beyond_limits` in engine/interaction.wgsl), the
+// contacts pass applies the limits for just those owners after their events (dispatched
+// indirectly over the list), and `forces` evaluates the contacts. The order within one
+// contact (corrections, then forces) and the order of the tally additions (slot by slot, per
+// channel) are the CPU's, so the results are the same bits.
 
-// apply_inelastic_limits for the contacts of the owners `contacts_scan` listed: rolling,
-// sliding, twisting, each booked per channel as the drop of the contact's step energy.
-// Each invocation takes every stride-th entry, as the dispatch holds at most work_groups_max
-// groups.
+// apply_inelastic_limits (engine/owner.wgsl) for the owners `contacts_scan` listed with
+// OWNER_CORRECTIONS, without their contact events: the step runs both in the contacts pass
+// (contacts.wgsl); this entry point lets the forces be tested on a state whose events have
+// not run. Each invocation takes every stride-th entry, as the dispatch holds at most
+// work_groups_max groups.
 @compute @workgroup_size(WORK_GROUP)
 fn forces_corrections(
     @builtin(global_invocation_id) id: vec3<u32>,
     @builtin(num_workgroups) groups: vec3<u32>,
 ) {
     let stride = groups.x * WORK_GROUP;
-    let length = work_length(WORK_CORRECTIONS);
+    let length = work_length(WORK_CONTACTS);
     for (var k = id.x; k < length; k += stride) {
-        apply_inelastic_limits(work_item(WORK_CORRECTIONS, k));
-    }
-}
-
-// The corrections of owner `i`'s contacts.
-fn apply_inelastic_limits(i: u32) {
-    let k = params.pair;
-    let r = params.radius;
-    let x1 = position[i].xyz;
-    for (var slot = 0u; slot < pair_count[i]; slot++) {
-        let idx = i * params.pair_slots + slot;
-        let j = pair_partner[idx];
-        let x2 = position[j].xyz;
-        let stored_n1 = load_pair_n1(idx);
-        var n1 = stored_n1.xyz;
-        var n2 = load_pair_n2(idx).xyz;
-        var twist = stored_n1.w;
-
-        let nc = vec_normalize(x1 - x2);
-        let rolled = rolling_correction(n1, n2, k.reduced_radius, k.xi_crit);
-        if rolled.changed {
-            let before = pair_step_energy(i, j, n1, n2, twist);
-            n1 = rolled.n1;
-            n2 = rolled.n2;
-            add_tally(i, TALLY_ROLLING, before - pair_step_energy(i, j, n1, n2, twist));
+        let item = work_item(WORK_CONTACTS, k);
+        if (item & OWNER_CORRECTIONS) != 0u {
+            apply_inelastic_limits(item & OWNER_INDEX);
         }
-        let slid = sliding_correction(n1, n2, nc, r, r, k.zeta_crit);
-        if slid.changed {
-            let before = pair_step_energy(i, j, n1, n2, twist);
-            n1 = slid.n1;
-            n2 = slid.n2;
-            add_tally(i, TALLY_SLIDING, before - pair_step_energy(i, j, n1, n2, twist));
-        }
-        let twisted = twisting_correction(twist, k.phi_crit);
-        if twisted.changed {
-            let before = pair_step_energy(i, j, n1, n2, twist);
-            twist = twisted.twist;
-            add_tally(i, TALLY_TWISTING, before - pair_step_energy(i, j, n1, n2, twist));
-        }
-        store_pair_n1(idx, vec4<f64>(n1, twist));
-        store_pair_n2(idx, vec4<f64>(n2, 0.0lf));
     }
 }
 

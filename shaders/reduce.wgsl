@@ -2,35 +2,12 @@
 //
 // Reductions into the diagnostics block, all in a fixed order (no float atomics exist, and a
 // fixed order makes every run give the same bits):
-// - reduce_walls (every step): each invocation sums the wall-contact forces of REDUCE_BLOCK
-//   consecutive monomers per wall; reduce_walls_final adds the blocks in order: the total force
-//   each wall exerts at the current step, and its running sum since the host last read it.
+// - reduce_walls (every step, in the wall_forces dispatch, walls.wgsl): each of the first
+//   ⌈n / REDUCE_BLOCK⌉ invocations sums the wall-contact forces of REDUCE_BLOCK consecutive
+//   monomers per wall; reduce_walls_final adds the blocks in order: the total force each wall
+//   exerts at the current step, and its running sum since the host last read it.
 // - reduce_diagnostics (when the host reads the block): the per-monomer energy tallies and the
 //   contact counts, by one workgroup: strided partial sums, then added in invocation order.
-
-@compute @workgroup_size(MONOMER_GROUP)
-fn reduce_walls(@builtin(global_invocation_id) id: vec3<u32>) {
-    let block = id.x;
-    let first = block * REDUCE_BLOCK;
-    if first >= params.n {
-        return;
-    }
-    var sums: array<vec3<f64>, MAX_WALLS>;
-    for (var w = 0u; w < MAX_WALLS; w++) {
-        sums[w] = vec3<f64>(0.0lf);
-    }
-    let end = min(first + REDUCE_BLOCK, params.n);
-    for (var i = first; i < end; i++) {
-        for (var slot = 0u; slot < wall_count[i]; slot++) {
-            let idx = i * params.wall_slots + slot;
-            let w = wall_id[idx];
-            sums[w] = sums[w] + wall_force[idx].xyz;
-        }
-    }
-    for (var w = 0u; w < params.wall_count; w++) {
-        partials[block * MAX_WALLS + w] = vec4<f64>(sums[w], 0.0lf);
-    }
-}
 
 @compute @workgroup_size(8)
 fn reduce_walls_final(@builtin(global_invocation_id) id: vec3<u32>) {

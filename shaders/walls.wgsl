@@ -1,10 +1,11 @@
-// requires: bindings interaction wall twisting math
+// requires: bindings owner interaction wall twisting math
 //
-// Monomer–wall force pass, twin of wall_forces in src/cpu/walls.rs: wall_contacts evaluates the
-// wall contacts of the monomers that have any (a work list), and wall_forces gathers per
+// Monomer–wall force pass, twin of wall_forces in src/cpu/walls.rs: the contacts pass evaluates
+// the wall contacts of the monomers that have any (wall_contacts_of in engine/owner.wgsl), and
+// wall_forces gathers per
 // monomer the forces pass's per-contact results (pair_forces' sums on the CPU), then the wall
 // contacts' results, then does the step's work bookkeeping (the trapezoid sums of
-// CpuEngine::step).
+// CpuEngine::step); its first invocations also sum the wall forces per block (reduce_walls).
 //
 // Gather order equals the CPU's: a monomer's force starts at zero, takes −F of every contact it
 // is the partner of in increasing owner index (the CPU visits owners in index order), then +F
@@ -19,6 +20,11 @@
 @compute @workgroup_size(MONOMER_GROUP)
 fn wall_forces(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
+    // The per-block wall-force sums ride along (a dispatch of their own costs lavapipe more
+    // than the sums): they read only what wall_contacts wrote.
+    if i < (params.n + REDUCE_BLOCK - 1u) / REDUCE_BLOCK {
+        reduce_walls(i);
+    }
     if i >= params.n {
         return;
     }
@@ -81,65 +87,43 @@ fn wall_forces(@builtin(global_invocation_id) id: vec3<u32>) {
     damping_force[i] = vec4<f64>(fd, 0.0lf);
 }
 
-// The wall contacts of the monomers contacts_scan and contact_events listed (dispatched
-// indirectly over that list; each invocation takes every stride-th entry, as a dispatch holds
-// at most work_groups_max groups): inelastic limits, then forces, stored per slot for
-// wall_forces. Few monomers touch a wall, and lavapipe would run this for every monomer of a
-// SIMD group in which one does.
+// wall_contacts_of (engine/owner.wgsl) for the monomers contacts_scan listed with
+// OWNER_WALLS, without their contact events: the step runs it in the contacts pass
+// (contacts.wgsl), after the events; this entry point lets the forces be tested on a state
+// whose events have not run. Each invocation takes every stride-th entry, as a dispatch holds
+// at most work_groups_max groups.
 @compute @workgroup_size(WORK_GROUP)
 fn wall_contacts(
     @builtin(global_invocation_id) id: vec3<u32>,
     @builtin(num_workgroups) groups: vec3<u32>,
 ) {
     let stride = groups.x * WORK_GROUP;
-    let length = work_length(WORK_WALLS);
+    let length = work_length(WORK_CONTACTS);
     for (var k = id.x; k < length; k += stride) {
-        wall_contacts_of(work_item(WORK_WALLS, k));
+        let item = work_item(WORK_CONTACTS, k);
+        if (item & OWNER_WALLS) != 0u {
+            wall_contacts_of(item & OWNER_INDEX);
+        }
     }
 }
 
-fn wall_contacts_of(i: u32) {
-    let r = params.radius;
-    let x = position[i].xyz;
-    let v = velocity[i].xyz;
-    for (var slot = 0u; slot < wall_count[i]; slot++) {
-        let idx = i * params.wall_slots + slot;
-        let wall = wall_table[wall_id[idx]];
-        let k = wall.k;
-        let normal = wall.normal.xyz;
-        var n1 = wall_n1[idx].xyz;
-        var twist = wall_n1[idx].w;
-        var anchor = wall_anchor[idx].xyz;
-
-        // apply_wall_inelastic_limits: everything goes to the walls channel.
-        let before = wall_step_energy(i, wall, n1, anchor, twist);
-        var changed = false;
-        let rolled = wall_rolling_correction(n1, anchor, normal, r, k.xi_crit);
-        if rolled.changed {
-            n1 = rolled.n1;
-            anchor = rolled.anchor;
-            changed = true;
+// First stage of the per-wall force sums (reduce.wgsl): the wall contacts of REDUCE_BLOCK
+// consecutive monomers, in index and slot order, per wall.
+fn reduce_walls(block: u32) {
+    let first = block * REDUCE_BLOCK;
+    var sums: array<vec3<f64>, MAX_WALLS>;
+    for (var w = 0u; w < MAX_WALLS; w++) {
+        sums[w] = vec3<f64>(0.0lf);
+    }
+    let end = min(first + REDUCE_BLOCK, params.n);
+    for (var i = first; i < end; i++) {
+        for (var slot = 0u; slot < wall_count[i]; slot++) {
+            let idx = i * params.wall_slots + slot;
+            let w = wall_id[idx];
+            sums[w] = sums[w] + wall_force[idx].xyz;
         }
-        let zeta = wall_sliding_displacement(x, n1, r, anchor, normal);
-        let slid = wall_sliding_correction(anchor, zeta, k.zeta_crit);
-        if slid.changed {
-            anchor = slid.p;
-            changed = true;
-        }
-        let twisted = twisting_correction(twist, k.phi_crit);
-        if twisted.changed {
-            twist = twisted.twist;
-            changed = true;
-        }
-        if changed {
-            add_tally(i, TALLY_WALLS, before - wall_step_energy(i, wall, n1, anchor, twist));
-            wall_n1[idx] = vec4<f64>(n1, twist);
-            wall_anchor[idx] = vec4<f64>(anchor, 0.0lf);
-        }
-
-        let it = wall_interaction(x, v, wall, n1, anchor, twist);
-        wall_force[idx] = vec4<f64>(it.f, 0.0lf);
-        wall_damping[idx] = vec4<f64>(it.fd, 0.0lf);
-        wall_torque[idx] = vec4<f64>(it.m, 0.0lf);
+    }
+    for (var w = 0u; w < params.wall_count; w++) {
+        partials[block * MAX_WALLS + w] = vec4<f64>(sums[w], 0.0lf);
     }
 }

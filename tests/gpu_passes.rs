@@ -340,6 +340,27 @@ fn contacts_match_their_cpu_twin() {
         &mut tally,
     )
     .unwrap();
+    // The contacts pass then applies the inelastic limits of the owners it lists, pair and
+    // wall contacts (on the CPU, the starts of pair_forces and wall_forces).
+    for i in 0..cpu.monomers.len() {
+        for slot in 0..cpu.contacts.pair_count[i] as usize {
+            let c = &mut cpu.contacts.pair[i * cpu.contacts.pair_slots + slot];
+            forces::apply_inelastic_limits(&cpu.law, &cpu.monomers, cpu.dt, i, c, &mut tally);
+        }
+        for slot in 0..cpu.contacts.wall_count[i] as usize {
+            let c = &mut cpu.contacts.wall[i * cpu.contacts.wall_slots + slot];
+            let wall = &cpu.walls[c.wall as usize];
+            walls::apply_wall_inelastic_limits(
+                &cpu.law,
+                &cpu.monomers,
+                cpu.dt,
+                i,
+                wall,
+                c,
+                &mut tally,
+            );
+        }
+    }
     gpu.clear_work_lists();
     gpu.dispatch(&[
         Kernel::Neighbours,
@@ -359,7 +380,10 @@ fn contacts_match_their_cpu_twin() {
     let (g, _) = gpu_tally(&gpu);
     assert_channel("breaking", tally.breaking, g.breaking);
     assert_channel("forming", tally.forming, g.forming);
-    assert_channel("walls (form and break)", tally.walls, g.walls);
+    assert_channel("walls (form, break, limits)", tally.walls, g.walls);
+    assert_channel("rolling", tally.rolling, g.rolling);
+    assert_channel("sliding", tally.sliding, g.sliding);
+    assert_channel("twisting", tally.twisting, g.twisting);
 }
 
 #[test]
@@ -396,7 +420,6 @@ fn forces_and_walls_match_their_cpu_twins() {
         Kernel::Forces,
         Kernel::WallContacts,
         Kernel::WallForces,
-        Kernel::ReduceWalls,
         Kernel::ReduceWallsFinal,
     ]);
     // Per-monomer tallies before the read: reading the small block starts them afresh.
@@ -449,11 +472,8 @@ fn reductions_match_their_cpu_twin_to_the_bit() {
     gpu.dispatch(&[
         Kernel::ContactsScan,
         Kernel::Contacts,
-        Kernel::ForcesCorrections,
         Kernel::Forces,
-        Kernel::WallContacts,
         Kernel::WallForces,
-        Kernel::ReduceWalls,
         Kernel::ReduceWallsFinal,
     ]);
     // The reductions' inputs as the device holds them, read before the small block is.

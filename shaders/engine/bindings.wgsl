@@ -80,20 +80,26 @@ const NEIGHBOUR_CAPACITY: u32 = 24u;
 
 // Work lists (see `work_list`), and the workgroup size of the passes dispatched over a list
 // (one SIMD group of lavapipe).
+// The owners with contact events, inelastic corrections or wall contacts this step (the
+// contacts pass): the owner's index, with OWNER_EVENTS, OWNER_CORRECTIONS, OWNER_WALLS set
+// for what it has.
 const WORK_CONTACTS: u32 = 0u;
-const WORK_CORRECTIONS: u32 = 1u;
-// The monomers with wall contacts this step (wall_contacts).
-const WORK_WALLS: u32 = 2u;
 // The pair contacts (slot indices), for the passes that run one invocation per contact.
-const WORK_PAIRS: u32 = 3u;
-const WORK_LISTS: u32 = 4u;
+const WORK_PAIRS: u32 = 1u;
+const WORK_LISTS: u32 = 2u;
 // The dispatch arguments after the lists' (work_args): the two neighbour passes, of n/64 groups
 // when integrate_drift asks for a rebuild and of none otherwise (a pass that returns at once
 // still costs lavapipe a full dispatch).
-const ARGS_REBUILD: u32 = 4u;
+const ARGS_REBUILD: u32 = 2u;
 // The lists of owners (in `work_list`); contacts_scan fills every list, integrate_drift
 // empties them.
-const EVENT_LISTS: u32 = 3u;
+const EVENT_LISTS: u32 = 1u;
+// What an owner in WORK_CONTACTS has to do, in bits above any monomer index (N < 2^29: the
+// buffers' limits keep N far lower, see gpu::buffers::Sizes::check).
+const OWNER_EVENTS: u32 = 0x80000000u;
+const OWNER_CORRECTIONS: u32 = 0x40000000u;
+const OWNER_WALLS: u32 = 0x20000000u;
+const OWNER_INDEX: u32 = 0x1fffffffu;
 const WORK_GROUP: u32 = 8u;
 // Workgroup size of the passes over the pair-contact list.
 const PAIR_GROUP: u32 = 64u;
@@ -208,14 +214,14 @@ const DIAG_SIZE: u32 = 80u;
 @group(0) @binding(39) var<storage, read_write> neighbour_list: array<u32>;
 @group(0) @binding(40) var<storage, read_write> neighbour_count: array<u32>;
 @group(0) @binding(41) var<storage, read_write> reference_position: array<vec4<f64>>;
-// Work lists: the owners with contact events (contacts pass) or inelastic corrections
-// (forces_corrections) this step, found by the scans; n entries per list, in no fixed order
+// Work lists: the owners with contact events, inelastic corrections or wall contacts this step
+// (contacts pass), found by the scan; n entries per list, in no fixed order
 // (each owner's work touches only its own slots and tally, so the order cannot change a
 // result). lavapipe runs every branch of a kernel for every invocation, masked, so rare and
 // expensive work inside a per-monomer kernel costs as if every monomer did it; dispatched
 // indirectly over its list, it costs what it does.
 @group(0) @binding(42) var<storage, read_write> work_list: array<u32>;
-// Length of each list (at WORK_CONTACTS and WORK_CORRECTIONS).
+// Length of each list (at WORK_CONTACTS, WORK_PAIRS).
 @group(0) @binding(43) var<storage, read_write> work: array<atomic<u32>>;
 // Indirect dispatch arguments (workgroups x, y, z) of the pass that processes each list, three
 // words per list. A separate buffer: a dispatch may not bind as storage the buffer its

@@ -78,7 +78,7 @@ pub const ALIASES: [(&str, &str); 2] = [("moving_walls", "walls"), ("wall_table"
 
 /// The most bindings one pass uses (each pass binds only what its entry point reads or
 /// writes; `kernels::tests` derives this from the shaders with naga).
-pub const MAX_BINDINGS_PER_PASS: u32 = 25;
+pub const MAX_BINDINGS_PER_PASS: u32 = 27;
 
 // lavapipe binds 32 storage buffers per stage, the least of the Vulkan adapters with f64.
 const _: () = assert!(MAX_BINDINGS_PER_PASS <= 32);

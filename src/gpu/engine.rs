@@ -176,11 +176,8 @@ impl GpuEngine {
                     Kernel::ContactsScan,
                     Kernel::Contacts,
                     Kernel::ContactsClearTally,
-                    Kernel::ForcesCorrections,
                     Kernel::Forces,
-                    Kernel::WallContacts,
                     Kernel::WallForces,
-                    Kernel::ReduceWalls,
                     Kernel::ReduceWallsFinal,
                     Kernel::IntegrateClearWork,
                     Kernel::IntegrateStart,
@@ -431,7 +428,6 @@ impl GpuEngine {
             }
             let count = match k {
                 Kernel::IntegrateDrift => groups(n.max(self.walls.len())),
-                Kernel::ReduceWalls => groups(n.div_ceil(layout::REDUCE_BLOCK)),
                 Kernel::ReduceWallsFinal | Kernel::ReduceDiagnostics => 1,
                 _ => groups(n),
             };
@@ -455,9 +451,10 @@ impl GpuEngine {
     }
 
     /// The dispatches of one step, in order. `contacts_scan` lists the owners with contact
-    /// events and those with a contact beyond an inelastic limit; `contacts` and
-    /// `forces_corrections` run over those lists only (indirect dispatches sized on the device).
-    pub const STEP: [Kernel; 13] = [
+    /// events or a contact beyond an inelastic limit, and `contacts` runs over that list only
+    /// (an indirect dispatch sized on the device); `wall_forces` also sums the wall forces per
+    /// block, which `reduce_walls_final` adds up.
+    pub const STEP: [Kernel; 10] = [
         Kernel::IntegrateKick,
         Kernel::IntegratePairs,
         Kernel::IntegrateDrift,
@@ -465,11 +462,8 @@ impl GpuEngine {
         Kernel::NeighboursList,
         Kernel::ContactsScan,
         Kernel::Contacts,
-        Kernel::ForcesCorrections,
         Kernel::Forces,
-        Kernel::WallContacts,
         Kernel::WallForces,
-        Kernel::ReduceWalls,
         Kernel::ReduceWallsFinal,
     ];
 

@@ -6,12 +6,12 @@
 
 use super::buffers::{Buffers, MAX_BINDINGS_PER_PASS};
 use super::context::GpuContext;
-use super::layout::{ARGS_REBUILD, WORK_CONTACTS, WORK_CORRECTIONS, WORK_PAIRS, WORK_WALLS};
+use super::layout::{ARGS_REBUILD, WORK_CONTACTS, WORK_PAIRS};
 use super::shader::{assemble_pass, Assembled, ShaderError};
 use super::spirv::entry_bindings;
 
 /// Entry points in step order, with the pass file (without `.wgsl`) that holds each.
-pub const ENTRY_POINTS: [(&str, &str); 18] = [
+pub const ENTRY_POINTS: [(&str, &str); 17] = [
     ("integrate", "integrate_kick"),
     ("integrate", "integrate_pairs"),
     ("integrate", "integrate_drift"),
@@ -23,7 +23,6 @@ pub const ENTRY_POINTS: [(&str, &str); 18] = [
     ("forces", "forces"),
     ("walls", "wall_contacts"),
     ("walls", "wall_forces"),
-    ("reduce", "reduce_walls"),
     ("reduce", "reduce_walls_final"),
     ("reduce", "reduce_diagnostics"),
     ("integrate", "integrate_start"),
@@ -46,7 +45,6 @@ pub enum Kernel {
     Forces,
     WallContacts,
     WallForces,
-    ReduceWalls,
     ReduceWallsFinal,
     ReduceDiagnostics,
     IntegrateStart,
@@ -61,9 +59,7 @@ impl Kernel {
     /// `None` for a pass dispatched over the monomers.
     pub fn indirect_offset(self) -> Option<u64> {
         let list = match self {
-            Kernel::Contacts => WORK_CONTACTS,
-            Kernel::ForcesCorrections => WORK_CORRECTIONS,
-            Kernel::WallContacts => WORK_WALLS,
+            Kernel::Contacts | Kernel::ForcesCorrections | Kernel::WallContacts => WORK_CONTACTS,
             Kernel::IntegratePairs | Kernel::Forces | Kernel::ContactsPairTests => WORK_PAIRS,
             Kernel::Neighbours | Kernel::NeighboursList => ARGS_REBUILD,
             _ => return None,
@@ -263,7 +259,6 @@ mod tests {
             Kernel::Forces,
             Kernel::WallContacts,
             Kernel::WallForces,
-            Kernel::ReduceWalls,
             Kernel::ReduceWallsFinal,
             Kernel::ReduceDiagnostics,
             Kernel::IntegrateStart,

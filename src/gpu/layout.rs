@@ -131,17 +131,15 @@ pub const SLOT_CHUNKS: usize = 3;
 /// Work lists (bindings.wgsl `work_list`, lengths in `work`, indirect dispatch arguments in
 /// `work_args`, three words per list), and the workgroup size of the passes dispatched over a
 /// list.
+/// The owners with contact events, inelastic corrections or wall contacts (the contacts pass).
 pub const WORK_CONTACTS: usize = 0;
-pub const WORK_CORRECTIONS: usize = 1;
-/// The monomers with wall contacts (wall_contacts).
-pub const WORK_WALLS: usize = 2;
 /// The pair-contact list (`contact_list`), for the passes run one invocation per contact.
-pub const WORK_PAIRS: usize = 3;
-pub const WORK_LISTS: usize = 4;
+pub const WORK_PAIRS: usize = 1;
+pub const WORK_LISTS: usize = 2;
 /// Indirect dispatch arguments of the neighbour passes, after the lists' in `work_args`.
-pub const ARGS_REBUILD: usize = 4;
+pub const ARGS_REBUILD: usize = 2;
 /// The lists in `work_list` (filled by contacts_scan, emptied by integrate_drift).
-pub const EVENT_LISTS: usize = 3;
+pub const EVENT_LISTS: usize = 1;
 pub const WORK_GROUP: usize = 8;
 /// Workgroup size of the passes over the pair-contact list.
 pub const PAIR_GROUP: usize = 64;
@@ -302,8 +300,6 @@ mod tests {
             ("NEIGHBOUR_CAPACITY", NEIGHBOUR_CAPACITY),
             ("SLOT_CHUNKS", SLOT_CHUNKS),
             ("WORK_CONTACTS", WORK_CONTACTS),
-            ("WORK_CORRECTIONS", WORK_CORRECTIONS),
-            ("WORK_WALLS", WORK_WALLS),
             ("WORK_PAIRS", WORK_PAIRS),
             ("WORK_LISTS", WORK_LISTS),
             ("ARGS_REBUILD", ARGS_REBUILD),

@@ -95,6 +95,7 @@ pub const ENGINE: &[Source] = &[
     wgsl!("engine/bindings.wgsl"),
     wgsl!("engine/cells.wgsl"),
     wgsl!("engine/interaction.wgsl"),
+    wgsl!("engine/owner.wgsl"),
 ];
 
 /// Passes: files with entry points. A test checks this list against `shaders/`.

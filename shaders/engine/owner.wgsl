@@ -1,0 +1,98 @@
+// requires: bindings interaction rolling sliding twisting wall math
+//
+// The work of one owner that the contacts pass does after the owner's contact events (and that
+// forces_corrections and wall_contacts do alone in tests): the inelastic corrections of its
+// pair contacts, and the limits and forces of its wall contacts. Each touches only the owner's
+// slots and tally, so one invocation per owner does all of it, in the CPU's order.
+
+// The inelastic corrections of owner `i`'s contacts: twin of apply_inelastic_limits in
+// src/cpu/forces.rs.
+fn apply_inelastic_limits(i: u32) {
+    let k = params.pair;
+    let r = params.radius;
+    let x1 = position[i].xyz;
+    for (var slot = 0u; slot < pair_count[i]; slot++) {
+        let idx = i * params.pair_slots + slot;
+        let j = pair_partner[idx];
+        let x2 = position[j].xyz;
+        let stored_n1 = load_pair_n1(idx);
+        var n1 = stored_n1.xyz;
+        var n2 = load_pair_n2(idx).xyz;
+        var twist = stored_n1.w;
+
+        let nc = vec_normalize(x1 - x2);
+        let rolled = rolling_correction(n1, n2, k.reduced_radius, k.xi_crit);
+        if rolled.changed {
+            let before = pair_step_energy(i, j, n1, n2, twist);
+            n1 = rolled.n1;
+            n2 = rolled.n2;
+            add_tally(i, TALLY_ROLLING, before - pair_step_energy(i, j, n1, n2, twist));
+        }
+        let slid = sliding_correction(n1, n2, nc, r, r, k.zeta_crit);
+        if slid.changed {
+            let before = pair_step_energy(i, j, n1, n2, twist);
+            n1 = slid.n1;
+            n2 = slid.n2;
+            add_tally(i, TALLY_SLIDING, before - pair_step_energy(i, j, n1, n2, twist));
+        }
+        let twisted = twisting_correction(twist, k.phi_crit);
+        if twisted.changed {
+            let before = pair_step_energy(i, j, n1, n2, twist);
+            twist = twisted.twist;
+            add_tally(i, TALLY_TWISTING, before - pair_step_energy(i, j, n1, n2, twist));
+        }
+        store_pair_n1(idx, vec4<f64>(n1, twist));
+        store_pair_n2(idx, vec4<f64>(n2, 0.0lf));
+    }
+}
+
+
+// The wall contacts of monomer `i`: inelastic limits (apply_wall_inelastic_limits in
+// src/cpu/walls.rs), then forces, stored per slot for wall_forces. Few monomers touch a wall,
+// and lavapipe would run this for every monomer of a SIMD group in which one does; hence a list.
+fn wall_contacts_of(i: u32) {
+    let r = params.radius;
+    let x = position[i].xyz;
+    let v = velocity[i].xyz;
+    for (var slot = 0u; slot < wall_count[i]; slot++) {
+        let idx = i * params.wall_slots + slot;
+        let wall = wall_table[wall_id[idx]];
+        let k = wall.k;
+        let normal = wall.normal.xyz;
+        var n1 = wall_n1[idx].xyz;
+        var twist = wall_n1[idx].w;
+        var anchor = wall_anchor[idx].xyz;
+
+        // apply_wall_inelastic_limits: everything goes to the walls channel.
+        let before = wall_step_energy(i, wall, n1, anchor, twist);
+        var changed = false;
+        let rolled = wall_rolling_correction(n1, anchor, normal, r, k.xi_crit);
+        if rolled.changed {
+            n1 = rolled.n1;
+            anchor = rolled.anchor;
+            changed = true;
+        }
+        let zeta = wall_sliding_displacement(x, n1, r, anchor, normal);
+        let slid = wall_sliding_correction(anchor, zeta, k.zeta_crit);
+        if slid.changed {
+            anchor = slid.p;
+            changed = true;
+        }
+        let twisted = twisting_correction(twist, k.phi_crit);
+        if twisted.changed {
+            twist = twisted.twist;
+            changed = true;
+        }
+        if changed {
+            add_tally(i, TALLY_WALLS, before - wall_step_energy(i, wall, n1, anchor, twist));
+            wall_n1[idx] = vec4<f64>(n1, twist);
+            wall_anchor[idx] = vec4<f64>(anchor, 0.0lf);
+        }
+
+        let it = wall_interaction(x, v, wall, n1, anchor, twist);
+        wall_force[idx] = vec4<f64>(it.f, 0.0lf);
+        wall_damping[idx] = vec4<f64>(it.fd, 0.0lf);
+        wall_torque[idx] = vec4<f64>(it.m, 0.0lf);
+    }
+}
+
