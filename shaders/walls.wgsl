@@ -21,7 +21,7 @@
 fn wall_forces(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     // The per-block wall-force sums ride along (a dispatch of their own costs lavapipe more
-    // than the sums): they read only what wall_contacts wrote.
+    // than the sums): they read only what the contacts pass wrote.
     if i < (params.n + REDUCE_BLOCK - 1u) / REDUCE_BLOCK {
         reduce_walls(i);
     }
@@ -59,7 +59,7 @@ fn wall_forces(@builtin(global_invocation_id) id: vec3<u32>) {
         m = m + r.m1;
     }
 
-    // Wall contacts, as wall_contacts found them, in slot order.
+    // Wall contacts, as wall_contacts_of found them, in slot order.
     let v = velocity[i].xyz;
     var power = 0.0lf;
     var damping_power = 0.0lf;

@@ -193,7 +193,7 @@ const DIAG_SIZE: u32 = 80u;
 @group(0) @binding(29) var<storage, read_write> wall_id: array<u32>;
 @group(0) @binding(30) var<storage, read_write> wall_count: array<u32>;
 // Force of each wall contact on its monomer (for the per-wall reduction and the gather), its
-// damping part and the torque on the monomer, as the wall_contacts pass found them.
+// damping part and the torque on the monomer, as wall_contacts_of (contacts pass) found them.
 @group(0) @binding(31) var<storage, read_write> wall_force: array<vec4<f64>>;
 // Pair slots (owner · pair_slots + slot) whose partner is this monomer, INCOMING_CAPACITY per
 // monomer, in arrival order; sorted before they are summed.

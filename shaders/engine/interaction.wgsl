@@ -123,7 +123,8 @@ fn wall_step_energy(i: u32, wall: Wall, n1: vec3<f64>, anchor: vec3<f64>, twist:
     return wall_contact_potential(x, wall, n1, anchor, twist) + 0.5lf * params.dt * work;
 }
 
-// Whether a contact needs any inelastic correction in forces_corrections: the tests that open
+// Whether a contact needs any inelastic correction (apply_inelastic_limits in
+// engine/owner.wgsl): the tests that open
 // the corrections in rolling_correction, sliding_correction and twisting_correction, on the
 // contact as stored. If rolling needs none, sliding is tested on the same pointers as there; if
 // it does, the owner is listed anyway. Tested before this step's events, which is the same:
