@@ -119,11 +119,20 @@ fn reduce_walls(block: u32) {
     for (var i = first; i < end; i++) {
         for (var slot = 0u; slot < wall_count[i]; slot++) {
             let idx = i * params.wall_slots + slot;
-            let w = wall_id[idx];
-            sums[w] = sums[w] + wall_force[idx].xyz;
+            let wall = wall_id[idx];
+            let f = wall_force[idx].xyz;
+            // Loops of constant length, which the compiler unrolls, so `sums` is indexed by
+            // constants and lives in registers (at a per-lane index it would be memory).
+            for (var w = 0u; w < MAX_WALLS; w++) {
+                if w == wall {
+                    sums[w] = sums[w] + f;
+                }
+            }
         }
     }
-    for (var w = 0u; w < params.wall_count; w++) {
-        partials[block * MAX_WALLS + w] = vec4<f64>(sums[w], 0.0lf);
+    for (var w = 0u; w < MAX_WALLS; w++) {
+        if w < params.wall_count {
+            partials[block * MAX_WALLS + w] = vec4<f64>(sums[w], 0.0lf);
+        }
     }
 }
