@@ -49,7 +49,7 @@ fn main() {
         float_mode_override().unwrap_or(probe.float_mode)
     );
     drop(probe);
-    let names: Vec<&str> = GpuEngine::STEP
+    let names: Vec<&str> = GpuEngine::PASSES
         .iter()
         .map(|k| ENTRY_POINTS[*k as usize].1)
         .collect();

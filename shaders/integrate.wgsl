@@ -1,4 +1,4 @@
-// requires: bindings interaction pointer twisting math
+// requires: bindings wall_sums interaction pointer twisting math
 //
 // Leap-frog pass, twin of src/cpu/integrate.rs: kick v(n−½) → v(n+½) with the forces at n, turn
 // contact pointers and advance twist integrals with the mid-step angular velocities, drift
@@ -17,6 +17,27 @@ fn integrate_kick(@builtin(global_invocation_id) id: vec3<u32>) {
     if i >= params.n {
         return;
     }
+    kick(i);
+}
+
+// The last step's wall sums (reduce_walls_final: invocation w for wall w), then the kick: what
+// the step script runs inside a submission, a dispatch fewer per step (each costs lavapipe
+// tens of µs). A submission's last step ends with reduce_walls_final itself, so the small
+// block read between submissions is complete.
+@compute @workgroup_size(MONOMER_GROUP)
+fn integrate_kick_with_wall_sums(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i < MAX_WALLS {
+        sum_wall_blocks(i);
+    }
+    if i >= params.n {
+        return;
+    }
+    kick(i);
+}
+
+// Kick of monomer i, and its wall contacts' pointers and twist.
+fn kick(i: u32) {
     let dt = params.dt;
     let s = aux[i];
     let v = velocity[i].xyz + force[i].xyz * (dt * params.inverse_mass * s.x);

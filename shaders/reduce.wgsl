@@ -1,4 +1,4 @@
-// requires: bindings
+// requires: bindings wall_sums
 //
 // Reductions into the diagnostics block, all in a fixed order (no float atomics exist, and a
 // fixed order makes every run give the same bits):
@@ -9,25 +9,11 @@
 // - reduce_diagnostics (when the host reads the block): the per-monomer energy tallies and the
 //   contact counts, by one workgroup: strided partial sums, then added in invocation order.
 
+// Dispatched alone at the end of a submission; inside one, the next step's
+// integrate_kick_with_wall_sums does it (integrate.wgsl).
 @compute @workgroup_size(8)
 fn reduce_walls_final(@builtin(global_invocation_id) id: vec3<u32>) {
-    let w = id.x;
-    if w == 0u {
-        diag[DIAG_STEPS] = diag[DIAG_STEPS] + 1.0lf;
-    }
-    if w >= params.wall_count {
-        return;
-    }
-    let blocks = (params.n + REDUCE_BLOCK - 1u) / REDUCE_BLOCK;
-    var sum = vec3<f64>(0.0lf);
-    for (var b = 0u; b < blocks; b++) {
-        sum = sum + partials[b * MAX_WALLS + w].xyz;
-    }
-    for (var c = 0u; c < 3u; c++) {
-        diag[DIAG_WALL_FORCE + 4u * w + c] = sum[c];
-        let at = DIAG_WALL_FORCE_SUM + 4u * w + c;
-        diag[at] = diag[at] + sum[c];
-    }
+    sum_wall_blocks(id.x);
 }
 
 var<workgroup> part_tally: array<array<f64, TALLY_STRIDE>, DIAG_THREADS>;

@@ -467,6 +467,37 @@ impl GpuEngine {
         Kernel::ReduceWallsFinal,
     ];
 
+    /// Every kernel a submission of several steps runs, in step order: those of
+    /// [`GpuEngine::STEP`], and `integrate_kick_with_wall_sums`, which starts each step but the
+    /// first and does the last step's `reduce_walls_final` on the way.
+    pub const PASSES: [Kernel; 11] = [
+        Kernel::IntegrateKick,
+        Kernel::IntegrateKickWithWallSums,
+        Kernel::IntegratePairs,
+        Kernel::IntegrateDrift,
+        Kernel::Neighbours,
+        Kernel::NeighboursList,
+        Kernel::ContactsScan,
+        Kernel::Contacts,
+        Kernel::Forces,
+        Kernel::WallForces,
+        Kernel::ReduceWallsFinal,
+    ];
+
+    /// The dispatches of step `s` (from 0) of a submission of `steps` steps: inside a
+    /// submission the wall sums of a step are added by the next step's kick (a dispatch fewer
+    /// per step; on lavapipe each costs tens of µs), and the submission ends where a step of
+    /// [`GpuEngine::STEP`] ends, so the small block read after it is complete.
+    pub fn step_script(s: u64, steps: u64) -> impl Iterator<Item = Kernel> {
+        let first = s == 0;
+        let last = s + 1 == steps;
+        Self::STEP.into_iter().filter_map(move |k| match k {
+            Kernel::IntegrateKick if !first => Some(Kernel::IntegrateKickWithWallSums),
+            Kernel::ReduceWallsFinal if !last => None,
+            other => Some(other),
+        })
+    }
+
     /// Runs the given kernels once, in order, in one submission, and waits (tests of a pass).
     pub fn dispatch(&mut self, kernels: &[Kernel]) {
         let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
@@ -502,8 +533,9 @@ impl GpuEngine {
             let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
             {
                 let mut pass = encoder.begin_compute_pass(&Default::default());
-                for _ in 0..batch {
-                    self.encode(&mut pass, &Self::STEP);
+                for s in 0..batch {
+                    let script: Vec<Kernel> = Self::step_script(s, batch).collect();
+                    self.encode(&mut pass, &script);
                 }
             }
             self.ctx.queue.submit([encoder.finish()]);
@@ -528,16 +560,19 @@ impl GpuEngine {
         Ok(())
     }
 
-    /// Advances `steps` ordinary steps (one submission, at most 157) with a timestamp before
+    /// Advances `steps` ordinary steps (one submission, at most 227) with a timestamp before
     /// and after every dispatch, and returns the mean seconds per step of each kernel of
-    /// [`GpuEngine::STEP`]; `None` where the device lacks timestamp queries inside passes.
+    /// [`GpuEngine::PASSES`] (`integrate_kick` and `reduce_walls_final` run once per
+    /// submission); `None` where the device lacks timestamp queries inside passes.
     pub fn profile_passes(&mut self, steps: u32) -> Result<Option<Vec<(Kernel, f64)>>, GpuError> {
         let device = &self.ctx.device;
         if !device.features().contains(super::context::TIMING_FEATURES) {
             return Ok(None);
         }
-        let kernels = Self::STEP.len() as u32;
-        let count = 2 * kernels * steps;
+        let script: Vec<Kernel> = (0..u64::from(steps))
+            .flat_map(|s| Self::step_script(s, u64::from(steps)))
+            .collect();
+        let count = 2 * script.len() as u32;
         assert!(
             count <= wgpu::QUERY_SET_MAX_QUERIES,
             "too many steps to profile"
@@ -563,14 +598,11 @@ impl GpuEngine {
         let mut encoder = device.create_command_encoder(&Default::default());
         {
             let mut pass = encoder.begin_compute_pass(&Default::default());
-            let mut query = 0;
-            for _ in 0..steps {
-                for k in Self::STEP {
-                    pass.write_timestamp(&queries, query);
-                    self.encode(&mut pass, &[k]);
-                    pass.write_timestamp(&queries, query + 1);
-                    query += 2;
-                }
+            for (q, &k) in script.iter().enumerate() {
+                let query = 2 * q as u32;
+                pass.write_timestamp(&queries, query);
+                self.encode(&mut pass, &[k]);
+                pass.write_timestamp(&queries, query + 1);
             }
         }
         encoder.resolve_query_set(&queries, 0..count, &resolved, 0);
@@ -578,13 +610,14 @@ impl GpuEngine {
         self.ctx.queue.submit([encoder.finish()]);
         let ticks: Vec<u64> = bytemuck::pod_collect_to_vec(&map_read(&self.ctx, &staging, bytes)?);
         let period = f64::from(self.ctx.queue.get_timestamp_period()) * 1e-9;
-        let mut seconds = vec![0.0; Self::STEP.len()];
-        for (q, pair) in ticks.chunks_exact(2).enumerate() {
-            seconds[q % Self::STEP.len()] += pair[1].saturating_sub(pair[0]) as f64 * period;
+        let mut seconds = vec![0.0; Self::PASSES.len()];
+        for (k, pair) in script.iter().zip(ticks.chunks_exact(2)) {
+            let at = Self::PASSES.iter().position(|p| p == k).expect("a pass");
+            seconds[at] += pair[1].saturating_sub(pair[0]) as f64 * period;
         }
         self.advanced(u64::from(steps))?;
         Ok(Some(
-            Self::STEP
+            Self::PASSES
                 .iter()
                 .zip(seconds)
                 .map(|(&k, s)| (k, s / f64::from(steps)))

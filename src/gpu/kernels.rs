@@ -11,7 +11,7 @@ use super::shader::{assemble_pass, Assembled, ShaderError};
 use super::spirv::entry_bindings;
 
 /// Entry points in step order, with the pass file (without `.wgsl`) that holds each.
-pub const ENTRY_POINTS: [(&str, &str); 17] = [
+pub const ENTRY_POINTS: [(&str, &str); 18] = [
     ("integrate", "integrate_kick"),
     ("integrate", "integrate_pairs"),
     ("integrate", "integrate_drift"),
@@ -29,6 +29,7 @@ pub const ENTRY_POINTS: [(&str, &str); 17] = [
     ("integrate", "integrate_clear_work"),
     ("contacts", "contacts_clear_tally"),
     ("contacts", "contacts_pair_tests"),
+    ("integrate", "integrate_kick_with_wall_sums"),
 ];
 
 /// Index of an entry point in [`ENTRY_POINTS`].
@@ -51,6 +52,7 @@ pub enum Kernel {
     IntegrateClearWork,
     ContactsClearTally,
     ContactsPairTests,
+    IntegrateKickWithWallSums,
 }
 
 impl Kernel {
@@ -265,6 +267,7 @@ mod tests {
             Kernel::IntegrateClearWork,
             Kernel::ContactsClearTally,
             Kernel::ContactsPairTests,
+            Kernel::IntegrateKickWithWallSums,
         ];
         assert_eq!(kernels.len(), ENTRY_POINTS.len());
         for kernel in kernels {

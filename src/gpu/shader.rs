@@ -96,6 +96,7 @@ pub const ENGINE: &[Source] = &[
     wgsl!("engine/cells.wgsl"),
     wgsl!("engine/interaction.wgsl"),
     wgsl!("engine/owner.wgsl"),
+    wgsl!("engine/wall_sums.wgsl"),
 ];
 
 /// Passes: files with entry points. A test checks this list against `shaders/`.
