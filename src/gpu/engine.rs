@@ -1,7 +1,7 @@
 //! The GPU backend: the CPU reference's passes as WGSL compute shaders on device-resident
 //! buffers, driven by a linear step script.
 //!
-//! The host uploads the state once, then encodes `readback_every` steps (10 dispatches each,
+//! The host uploads the state once, then encodes `readback_every` steps (9 dispatches each,
 //! one compute pass) per submission and reads back only the small block: overflow flags, the
 //! wall forces (current and summed over the batch), contact counts and the energy tally. The
 //! full state comes back only on request (tests, snapshots, energy reports).
