@@ -4,6 +4,11 @@
 //! the step count with `DUSTDEM_BENCH_STEPS`),
 //! with the time per pass of the GPU step. Prints a Markdown table.
 //!
+//! `DUSTDEM_BENCH_ROUNDS=R` (default 1) times R rounds, each a run of the CPU reference and one
+//! of the GPU engine back to back (both engines carry on from where they stopped), and reports
+//! the median of each rate and the median and range of the per-round ratios: on a shared host
+//! the two backends of one round meet the same load.
+//!
 //! Run: `cargo bench --bench gpu_throughput`. Per-pass times come from timestamps written
 //! before and after every dispatch of 20 ordinary steps (where the device has timestamp queries
 //! inside passes); they leave out the gaps between dispatches, so they add up to less than the
@@ -53,11 +58,18 @@ fn main() {
         .iter()
         .map(|k| ENTRY_POINTS[*k as usize].1)
         .collect();
+    let rounds: usize = std::env::var("DUSTDEM_BENCH_ROUNDS")
+        .map(|s| s.parse().expect("DUSTDEM_BENCH_ROUNDS is an integer"))
+        .unwrap_or(1)
+        .max(1);
     println!(
-        "| N | steps | GPU particle-steps/s | CPU particle-steps/s | GPU/CPU | GPU µs/step | {} |",
+        "| N | steps | rounds | GPU particle-steps/s | CPU particle-steps/s | GPU/CPU | GPU/CPU range | GPU µs/step | {} |",
         names.join(" µs | ") + " µs"
     );
-    println!("|---|---|---|---|---|---|{}", "---|".repeat(names.len()));
+    println!(
+        "|---|---|---|---|---|---|---|---|{}",
+        "---|".repeat(names.len())
+    );
     for n in sizes {
         let steps = match std::env::var("DUSTDEM_BENCH_STEPS") {
             Ok(s) => s.parse().expect("DUSTDEM_BENCH_STEPS is an integer"),
@@ -67,9 +79,6 @@ fn main() {
 
         let mut cpu = Compression::new(&cfg).expect("setup");
         cpu.engine.run(steps / 10).expect("warm-up");
-        let clock = Instant::now();
-        cpu.engine.run(steps).expect("run");
-        let cpu_rate = n as f64 * steps as f64 / clock.elapsed().as_secs_f64();
 
         let mut ctx = GpuContext::new(&Requirements::default()).expect("adapter");
         if let Some(mode) = float_mode_override() {
@@ -80,10 +89,20 @@ fn main() {
         })
         .expect("setup");
         gpu.engine.run(steps / 10).expect("warm-up");
-        let clock = Instant::now();
-        gpu.engine.run(steps).expect("run");
-        let seconds = clock.elapsed().as_secs_f64();
-        let gpu_rate = n as f64 * steps as f64 / seconds;
+        let particle_steps = n as f64 * steps as f64;
+        let (mut cpu_rates, mut gpu_rates, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
+        for _ in 0..rounds {
+            let clock = Instant::now();
+            cpu.engine.run(steps).expect("run");
+            let cpu_rate = particle_steps / clock.elapsed().as_secs_f64();
+            let clock = Instant::now();
+            gpu.engine.run(steps).expect("run");
+            let gpu_rate = particle_steps / clock.elapsed().as_secs_f64();
+            cpu_rates.push(cpu_rate);
+            gpu_rates.push(gpu_rate);
+            ratios.push(gpu_rate / cpu_rate);
+        }
+        let (cpu_rate, gpu_rate) = (median(&cpu_rates), median(&gpu_rates));
         let passes: Vec<String> = match gpu.engine.profile_passes(20).expect("profiled steps") {
             Some(times) => times
                 .iter()
@@ -91,11 +110,25 @@ fn main() {
                 .collect(),
             None => vec!["–".into(); names.len()],
         };
+        let low = ratios.iter().copied().fold(f64::INFINITY, f64::min);
+        let high = ratios.iter().copied().fold(0.0, f64::max);
         println!(
-            "| {n} | {steps} | {gpu_rate:.3e} | {cpu_rate:.3e} | {:.2} | {:.0} | {} |",
-            gpu_rate / cpu_rate,
-            1e6 * seconds / steps as f64,
+            "| {n} | {steps} | {rounds} | {gpu_rate:.3e} | {cpu_rate:.3e} | {:.2} | {low:.2}–{high:.2} | {:.0} | {} |",
+            median(&ratios),
+            1e6 * n as f64 / gpu_rate,
             passes.join(" | ")
         );
+    }
+}
+
+/// Median (the mean of the middle two for an even count).
+fn median(values: &[f64]) -> f64 {
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let mid = sorted.len() / 2;
+    if sorted.len() % 2 == 1 {
+        sorted[mid]
+    } else {
+        0.5 * (sorted[mid - 1] + sorted[mid])
     }
 }
