@@ -520,6 +520,40 @@ fn profiled_steps_are_ordinary_steps() {
     assert_eq!(profiled.diagnostics(), plain.diagnostics());
 }
 
+#[test]
+fn a_submission_of_several_steps_is_the_same_steps_one_by_one() {
+    // Inside a submission each step's kick also adds the last step's wall sums
+    // (integrate_kick_with_wall_sums); a single step runs GpuEngine::STEP as it is.
+    let state = crafted().cpu;
+    let (Some(mut batched), Some(mut single)) = (gpu_of(&state), gpu_of(&state)) else {
+        return;
+    };
+    let steps = 7;
+    batched.run(steps).unwrap();
+    let mut sums = vec![DVec3::ZERO; single.walls.len()];
+    for _ in 0..steps {
+        single.step().unwrap();
+        for (sum, f) in sums.iter_mut().zip(single.wall_force()) {
+            *sum += *f;
+        }
+    }
+    assert_eq!(batched.step, single.step);
+    let (a, b) = (batched.monomers(), single.monomers());
+    assert_eq!(a.position, b.position);
+    assert_eq!(a.velocity, b.velocity);
+    assert_eq!(a.angular_velocity, b.angular_velocity);
+    assert_eq!(batched.contacts(), single.contacts());
+    assert_eq!(batched.wall_force(), single.wall_force());
+    // The submission's mean wall force: the per-step forces summed on the device in step order
+    // (on the host here, in the same order), over the steps.
+    let d = batched.diagnostics();
+    assert_eq!(d.mean_steps, steps);
+    assert!(sums.iter().any(|f| *f != DVec3::ZERO));
+    for (mean, sum) in d.mean_wall_force.iter().zip(&sums) {
+        assert_eq!(*mean, *sum / steps as f64);
+    }
+}
+
 /// |ξ|, |ζ| and |φ| of every pair contact, and |ξ|, |ζ|, ξ_crit, ζ_crit of every wall contact,
 /// in slot order.
 fn displacements(e: &CpuEngine, table: &ContactTable) -> (Vec<[f64; 3]>, Vec<[f64; 4]>) {
