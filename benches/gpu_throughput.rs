@@ -54,7 +54,7 @@ fn main() {
         float_mode_override().unwrap_or(probe.float_mode)
     );
     drop(probe);
-    let names: Vec<&str> = GpuEngine::PASSES
+    let names: Vec<&str> = GpuEngine::passes()
         .iter()
         .map(|k| ENTRY_POINTS[*k as usize].1)
         .collect();

@@ -513,7 +513,7 @@ fn profiled_steps_are_ordinary_steps() {
         return;
     };
     plain.run(5).unwrap();
-    assert_eq!(times.len(), GpuEngine::PASSES.len());
+    assert_eq!(times.len(), GpuEngine::passes().len());
     assert!(times.iter().all(|(_, s)| *s > 0.0), "{times:?}");
     assert_eq!(profiled.step, plain.step);
     assert_eq!(profiled.positions(), plain.positions());

@@ -451,7 +451,8 @@ impl GpuEngine {
     }
 
     /// The dispatches of one step, in order. `contacts_scan` lists the owners with contact
-    /// events or a contact beyond an inelastic limit, and `contacts` runs over that list only
+    /// events, a contact beyond an inelastic limit or wall contacts, and `contacts` runs over
+    /// that list only
     /// (an indirect dispatch sized on the device); `wall_forces` also sums the wall forces per
     /// block, which `reduce_walls_final` adds up.
     pub const STEP: [Kernel; 10] = [
@@ -468,21 +469,17 @@ impl GpuEngine {
     ];
 
     /// Every kernel a submission of several steps runs, in step order: those of
-    /// [`GpuEngine::STEP`], and `integrate_kick_with_wall_sums`, which starts each step but the
-    /// first and does the last step's `reduce_walls_final` on the way.
-    pub const PASSES: [Kernel; 11] = [
-        Kernel::IntegrateKick,
-        Kernel::IntegrateKickWithWallSums,
-        Kernel::IntegratePairs,
-        Kernel::IntegrateDrift,
-        Kernel::Neighbours,
-        Kernel::NeighboursList,
-        Kernel::ContactsScan,
-        Kernel::Contacts,
-        Kernel::Forces,
-        Kernel::WallForces,
-        Kernel::ReduceWallsFinal,
-    ];
+    /// [`GpuEngine::STEP`], and after the kick `integrate_kick_with_wall_sums`, which starts
+    /// each step but the first and does the last step's `reduce_walls_final` on the way.
+    pub fn passes() -> Vec<Kernel> {
+        Self::STEP
+            .into_iter()
+            .flat_map(|k| match k {
+                Kernel::IntegrateKick => vec![k, Kernel::IntegrateKickWithWallSums],
+                other => vec![other],
+            })
+            .collect()
+    }
 
     /// The dispatches of step `s` (from 0) of a submission of `steps` steps: inside a
     /// submission the wall sums of a step are added by the next step's kick (a dispatch fewer
@@ -562,7 +559,7 @@ impl GpuEngine {
 
     /// Advances `steps` ordinary steps (one submission, at most 227) with a timestamp before
     /// and after every dispatch, and returns the mean seconds per step of each kernel of
-    /// [`GpuEngine::PASSES`] (`integrate_kick` and `reduce_walls_final` run once per
+    /// [`GpuEngine::passes`] (`integrate_kick` and `reduce_walls_final` run once per
     /// submission); `None` where the device lacks timestamp queries inside passes.
     pub fn profile_passes(&mut self, steps: u32) -> Result<Option<Vec<(Kernel, f64)>>, GpuError> {
         let device = &self.ctx.device;
@@ -610,14 +607,15 @@ impl GpuEngine {
         self.ctx.queue.submit([encoder.finish()]);
         let ticks: Vec<u64> = bytemuck::pod_collect_to_vec(&map_read(&self.ctx, &staging, bytes)?);
         let period = f64::from(self.ctx.queue.get_timestamp_period()) * 1e-9;
-        let mut seconds = vec![0.0; Self::PASSES.len()];
+        let passes = Self::passes();
+        let mut seconds = vec![0.0; passes.len()];
         for (k, pair) in script.iter().zip(ticks.chunks_exact(2)) {
-            let at = Self::PASSES.iter().position(|p| p == k).expect("a pass");
+            let at = passes.iter().position(|p| p == k).expect("a pass");
             seconds[at] += pair[1].saturating_sub(pair[0]) as f64 * period;
         }
         self.advanced(u64::from(steps))?;
         Ok(Some(
-            Self::PASSES
+            passes
                 .iter()
                 .zip(seconds)
                 .map(|(&k, s)| (k, s / f64::from(steps)))
