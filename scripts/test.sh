@@ -9,6 +9,17 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+# The archive that serves this machine's "bookworm" suite (deb822 or one-line sources): the
+# backports suite lives beside it, so no mirror is named here.
+debian_main_uri() {
+  {
+    awk '/^URIs:/ {u=$2} /^Suites:/ {for (i = 2; i <= NF; i++) if ($i == "bookworm") print u}' \
+      /etc/apt/sources.list.d/*.sources 2>/dev/null
+    awk '$1 == "deb" && $3 == "bookworm" {print $2}' /etc/apt/sources.list \
+      /etc/apt/sources.list.d/*.list 2>/dev/null
+  } | head -n 1
+}
+
 install_lavapipe() {
   local sudo=""
   [ "$(id -u)" -ne 0 ] && sudo="sudo"
@@ -16,7 +27,14 @@ install_lavapipe() {
   $sudo apt-get update -q
   if grep -q '^VERSION_CODENAME=bookworm$' /etc/os-release 2>/dev/null; then
     if ! grep -rqs 'bookworm-backports' /etc/apt/sources.list /etc/apt/sources.list.d/; then
-      printf '%s\n' 'Types: deb' 'URIs: http://deb.debian.org/debian' \
+      local uri
+      uri=$(debian_main_uri)
+      if [ -z "$uri" ]; then
+        echo "note: no Debian main archive in the apt sources; using Debian 12's own lavapipe" >&2
+        DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q "${packages[@]}"
+        return
+      fi
+      printf '%s\n' 'Types: deb' "URIs: $uri" \
         'Suites: bookworm-backports' 'Components: main' \
         'Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg' |
         $sudo tee /etc/apt/sources.list.d/dustdem-bookworm-backports.sources >/dev/null
