@@ -12,12 +12,14 @@ cd "$(dirname "$0")/.."
 # The archive that serves this machine's "bookworm" suite (deb822 or one-line sources): the
 # backports suite lives beside it, so no mirror is named here.
 debian_main_uri() {
-  {
-    awk '/^URIs:/ {u=$2} /^Suites:/ {for (i = 2; i <= NF; i++) if ($i == "bookworm") print u}' \
-      /etc/apt/sources.list.d/*.sources 2>/dev/null
-    awk '$1 == "deb" && $3 == "bookworm" {print $2}' /etc/apt/sources.list \
-      /etc/apt/sources.list.d/*.list 2>/dev/null
-  } | head -n 1
+  local f
+  for f in /etc/apt/sources.list.d/*.sources; do
+    [ -f "$f" ] && awk '/^URIs:/ {u=$2} /^Suites:/ {for (i = 2; i <= NF; i++) if ($i == "bookworm") print u}' "$f"
+  done
+  for f in /etc/apt/sources.list /etc/apt/sources.list.d/*.list; do
+    [ -f "$f" ] && awk '$1 == "deb" && $3 == "bookworm" {print $2}' "$f"
+  done
+  return 0
 }
 
 install_lavapipe() {
@@ -28,7 +30,7 @@ install_lavapipe() {
   if grep -q '^VERSION_CODENAME=bookworm$' /etc/os-release 2>/dev/null; then
     if ! grep -rqs 'bookworm-backports' /etc/apt/sources.list /etc/apt/sources.list.d/; then
       local uri
-      uri=$(debian_main_uri)
+      uri=$(debian_main_uri | head -n 1)
       if [ -z "$uri" ]; then
         echo "note: no Debian main archive in the apt sources; using Debian 12's own lavapipe" >&2
         DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q "${packages[@]}"

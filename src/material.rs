@@ -79,6 +79,19 @@ pub enum TwistingStiffness {
     EffectiveShear,
 }
 
+/// Which twisting stiffness a monomer–wall contact gets.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WallTwisting {
+    /// k_t,wall = k_t of two monomers, as Seizinger et al. (2012, Sect. 2.2.4) choose: a monomer
+    /// twists elastically through the same angle against a wall as against another monomer.
+    #[default]
+    Pair,
+    /// k_t,wall = 16/3 G a₀,wall³, the pair formula with the wall's contact radius (R = r):
+    /// 4 times the pair value, since a₀³ ∝ R².
+    WallContactRadius,
+}
+
 /// Constants of one kind of contact (monomer–monomer or monomer–wall), before modifiers.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactConstants {
@@ -152,21 +165,35 @@ pub struct Derived {
     pub g_star: f64,
     /// Monomer–monomer contacts.
     pub pair: ContactConstants,
-    /// Monomer–wall contacts (R = r).
+    /// Monomer–wall contacts (R = r; k_t per [`WallTwisting`]).
     pub wall: ContactConstants,
 }
 
 impl Derived {
+    /// The paper's constants: k_t,wall = k_t ([`WallTwisting::Pair`]).
     pub fn new(m: &Material, twisting: TwistingStiffness) -> Self {
+        Self::with_wall_twisting(m, twisting, WallTwisting::Pair)
+    }
+
+    pub fn with_wall_twisting(
+        m: &Material,
+        twisting: TwistingStiffness,
+        wall_twisting: WallTwisting,
+    ) -> Self {
         let r = m.radius;
+        let pair = ContactConstants::new(m, r * r / (r + r), twisting);
+        let mut wall = ContactConstants::new(m, r, twisting);
+        if wall_twisting == WallTwisting::Pair {
+            wall.k_t = pair.k_t;
+        }
         Derived {
             mass: m.mass(),
             moment_of_inertia: m.moment_of_inertia(),
             e_star: m.effective_youngs_modulus(),
             shear_modulus: m.shear_modulus(),
             g_star: m.effective_shear_modulus(),
-            pair: ContactConstants::new(m, r * r / (r + r), twisting),
-            wall: ContactConstants::new(m, r, twisting),
+            pair,
+            wall,
         }
     }
 }

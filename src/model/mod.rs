@@ -14,7 +14,7 @@ pub mod wall;
 
 pub use damping::Damping;
 
-use crate::material::{ContactConstants, Derived, Material, TwistingStiffness};
+use crate::material::{ContactConstants, Derived, Material, TwistingStiffness, WallTwisting};
 use serde::{Deserialize, Serialize};
 
 /// Model options on top of the material: the paper's modifiers and the damping choice.
@@ -29,6 +29,8 @@ pub struct ModelOptions {
     pub twisting_modifier: f64,
     /// Which expression gives k_t (physics.md note 2).
     pub twisting_stiffness: TwistingStiffness,
+    /// Twisting stiffness against walls: the pair's k_t (paper) or the wall contact's own.
+    pub wall_twisting: WallTwisting,
     pub damping: Damping,
 }
 
@@ -40,6 +42,7 @@ impl Default for ModelOptions {
             sliding_modifier: 1.0,
             twisting_modifier: 1.0,
             twisting_stiffness: TwistingStiffness::Printed,
+            wall_twisting: WallTwisting::Pair,
             damping: Damping::Viscous { kappa: 1e-6 },
         }
     }
@@ -79,7 +82,11 @@ pub struct ContactLaw {
 
 impl ContactLaw {
     pub fn new(material: &Material, options: &ModelOptions) -> Self {
-        let derived = Derived::new(material, options.twisting_stiffness);
+        let derived = Derived::with_wall_twisting(
+            material,
+            options.twisting_stiffness,
+            options.wall_twisting,
+        );
         let modify = |mut c: ContactConstants| {
             c.k_r *= options.rolling_modifier;
             c.k_s *= options.sliding_modifier;

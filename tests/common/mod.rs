@@ -1,6 +1,8 @@
 //! Shared builders for the physics tests.
 #![allow(dead_code)]
 
+pub mod printed;
+
 use dustdem::cpu::state::Monomers;
 use dustdem::cpu::{CpuEngine, DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
 use dustdem::material::Material;
