@@ -20,7 +20,7 @@ use std::time::Instant;
 /// The built-in default job: a small omnidirectional compression.
 pub const DEFAULT_CONFIG: &str = include_str!("../configs/omni_quick.toml");
 
-/// Measured reference curves of physics.md (Eq. 13 parameters, pressures in Pa).
+/// Measured reference curves of docs/physics.md, Sect. 5.8 (Eq. 13 parameters, pressures in Pa).
 pub const GUETTLER_2009_OMNI: Eq13 = Eq13 {
     phi1: 0.15,
     phi2: 0.58,

@@ -60,14 +60,14 @@ impl Material {
         self.youngs_modulus / (2.0 * (1.0 + self.poisson))
     }
 
-    /// G* with the Mindlin form (2 − ν) (physics.md note 1; the paper misprints 2 − ν²).
+    /// G* with the Mindlin form (2 − ν) (docs/physics.md, note 1; the paper misprints 2 − ν²).
     pub fn effective_shear_modulus(&self) -> f64 {
         let one = (2.0 - self.poisson) / self.shear_modulus();
         1.0 / (one + one)
     }
 }
 
-/// Which expression sets the twisting stiffness k_t (physics.md note 2).
+/// Which expression sets the twisting stiffness k_t (docs/physics.md, note 2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum TwistingStiffness {

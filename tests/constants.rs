@@ -1,6 +1,6 @@
-//! Every derived constant of physics.md, reproduced from Table 1.
+//! Every derived constant of docs/physics.md, reproduced from Table 1.
 //!
-//! physics.md prints six significant figures, so each value is checked to that precision:
+//! docs/physics.md prints six significant figures, so each value is checked to that precision:
 //! rounding ours to the printed digits must give the printed value (|Δ| ≤ half a unit in the
 //! last printed digit, at most 5e-6 relative, for most entries under 2e-6).
 

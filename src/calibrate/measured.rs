@@ -528,7 +528,7 @@ phi_sigma = 0.02
         let m = MeasuredSet::parse(text, "m.toml").unwrap();
         let c = &m.compression[0];
         assert_eq!(c.pressure.len(), EQ13_POINTS);
-        // physics.md: 0.1581 at 1e2 Pa, 0.5626 at 1e6 Pa.
+        // docs/physics.md, Sect. 5.8: 0.1581 at 1e2 Pa, 0.5626 at 1e6 Pa.
         assert!((c.phi[0] - 0.1581).abs() < 1e-4 && (c.phi[11] - 0.5626).abs() < 1e-4);
     }
 

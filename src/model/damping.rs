@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-/// Selectable normal damping (physics.md, Sect. 2.1.4 of the seed paper).
+/// Selectable normal damping (docs/physics.md, Sect. 2.4; Sect. 2.1.4 of the seed paper).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Damping {

@@ -27,7 +27,7 @@ pub struct ModelOptions {
     pub sliding_modifier: f64,
     /// Twisting modifier m_t: k_t → m_t k_t.
     pub twisting_modifier: f64,
-    /// Which expression gives k_t (physics.md note 2).
+    /// Which expression gives k_t (docs/physics.md, note 2).
     pub twisting_stiffness: TwistingStiffness,
     /// Twisting stiffness against walls: the pair's k_t (paper) or the wall contact's own.
     pub wall_twisting: WallTwisting,
