@@ -22,7 +22,7 @@ pub struct Config {
     pub output: OutputConfig,
 }
 
-/// Table 1 of the seed paper, in the units it is usually quoted in.
+/// Table 1 of Seizinger et al. (2012), in the units it is usually quoted in.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct MaterialConfig {

@@ -1,4 +1,4 @@
-//! Material parameters (Table 1 of the seed paper) and every constant derived from them.
+//! Material parameters (Table 1 of Seizinger et al. (2012)) and every constant derived from them.
 //!
 //! All values are CGS (cm, g, s, dyn, erg). The derived constants are computed once on the host
 //! from the validated inputs and handed to the contact law; nothing downstream recomputes them.

@@ -2,13 +2,13 @@
 
 use serde::{Deserialize, Serialize};
 
-/// Selectable normal damping (docs/physics.md, Sect. 2.4; Sect. 2.1.4 of the seed paper).
+/// Selectable normal damping (docs/physics.md, Sect. 2.4; Seizinger et al. 2012, Sect. 2.1.4).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Damping {
     /// No normal damping.
     None,
-    /// Viscous damping with constant κ [g/s] (the seed paper: κ = 1e-6 g/s).
+    /// Viscous damping with constant κ [g/s] (Seizinger et al. 2012: κ = 1e-6 g/s).
     Viscous { kappa: f64 },
     /// Viscoelastic damping F = −(2E* T_vis/ν²) a v_rel (Seizinger & Kley 2013, after Krijt et
     /// al. 2013); T_vis [s].

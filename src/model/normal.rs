@@ -1,4 +1,4 @@
-//! JKR normal interaction (Eqs. 1–3 of the seed paper), in the dimensionless contact radius
+//! JKR normal interaction (Eqs. 1–3 of Seizinger et al. (2012)), in the dimensionless contact radius
 //! x = a/a₀ and overlap d = δ/δ₀.
 
 /// Smallest contact radius on the stable branch, x_min = 6^(−2/3): δ(x) has its minimum there.
