@@ -34,19 +34,28 @@ fn energy_and_momenta_are_conserved_without_dissipation() {
         "E0 {:.4e} erg (kinetic {:.3e}); worst |ΔE| over 1e5 steps {:.3e} = {:.2e} of |E|, {:.2e} of KE",
         e0.mechanical(), internal_ke, worst, rel_total, worst / internal_ke
     );
-    assert!(rel_total < 1e-4);
+    // Measured 3.6e-6: the leap-frog's bounded O(dt²) energy error at 100 ps (the stiffest
+    // mode, normal, has ω dt = 0.06). Bound 1e-5.
+    assert!(rel_total < 1e-5);
     let dp = (e.momentum() - p0).length() / p0.length();
     let dl = (e.angular_momentum() - l0).length() / l0.length();
     eprintln!("momentum rel change {dp:.2e}, angular momentum rel change {dl:.2e}");
-    assert!(dp < 1e-10);
-    assert!(dl < 1e-10);
+    // Pair forces and torques cancel exactly in exact arithmetic; what remains is rounding,
+    // measured 1.7e-15 and 1.2e-14 after 1e5 steps. Bound 1e-13.
+    assert!(dp < 1e-13);
+    assert!(dl < 1e-13);
 }
 
 #[test]
 fn energy_balance_closes_with_the_dissipation_tally() {
-    for (name, damping) in [
-        ("viscous", Damping::Viscous { kappa: 1e-6 }),
-        ("viscoelastic", Damping::Viscoelastic { t_vis: 1.25e-11 }),
+    // Bounds: twice the measured error (3.2e-5 viscous, 1.4e-6 viscoelastic, below).
+    for (name, damping, bound) in [
+        ("viscous", Damping::Viscous { kappa: 1e-6 }, 6e-5),
+        (
+            "viscoelastic",
+            Damping::Viscoelastic { t_vis: 1.25e-11 },
+            3e-6,
+        ),
     ] {
         let law = law_with(damping);
         let dt = 2.5e-11;
@@ -68,6 +77,6 @@ fn energy_balance_closes_with_the_dissipation_tally() {
         for channel in [d.damping, d.rolling, d.sliding, d.twisting] {
             assert!(channel > 0.0, "{name}: every channel is exercised: {d:?}");
         }
-        assert!(error / d.total() < 1e-4);
+        assert!(error / d.total() < bound, "{name}");
     }
 }

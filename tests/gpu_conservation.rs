@@ -50,19 +50,26 @@ fn energy_and_momenta_are_conserved_without_dissipation_on_the_gpu() {
     assert_eq!(end.contacts.pair_contact_count(), 49);
     let rel_total = worst / e0.mechanical().abs();
     eprintln!("GPU: worst |ΔE| over 1e5 steps {worst:.3e} = {rel_total:.2e} of |E|");
-    assert!(rel_total < 1e-4);
+    // The CPU reference's bounds (tests/conservation.rs): the device runs the same operations
+    // (exact mode) or differs by rounding (relaxed), far below the leap-frog's 3.6e-6.
+    assert!(rel_total < 1e-5);
     let dp = (end.momentum() - p0).length() / p0.length();
     let dl = (end.angular_momentum() - l0).length() / l0.length();
     eprintln!("GPU: momentum rel change {dp:.2e}, angular momentum rel change {dl:.2e}");
-    assert!(dp < 1e-10);
-    assert!(dl < 1e-10);
+    assert!(dp < 1e-13);
+    assert!(dl < 1e-13);
 }
 
 #[test]
 fn energy_balance_closes_with_the_dissipation_tally_on_the_gpu() {
-    for (name, damping) in [
-        ("viscous", Damping::Viscous { kappa: 1e-6 }),
-        ("viscoelastic", Damping::Viscoelastic { t_vis: 1.25e-11 }),
+    // Twice the measured 3.2e-5 / 1.4e-6, as on the CPU.
+    for (name, damping, bound) in [
+        ("viscous", Damping::Viscous { kappa: 1e-6 }, 6e-5),
+        (
+            "viscoelastic",
+            Damping::Viscoelastic { t_vis: 1.25e-11 },
+            3e-6,
+        ),
     ] {
         let law = law_with(damping);
         let dt = 2.5e-11;
@@ -84,6 +91,6 @@ fn energy_balance_closes_with_the_dissipation_tally_on_the_gpu() {
         for channel in [d.damping, d.rolling, d.sliding, d.twisting] {
             assert!(channel > 0.0, "{name}: every channel is exercised: {d:?}");
         }
-        assert!(error / d.total() < 1e-4);
+        assert!(error / d.total() < bound, "{name}");
     }
 }
