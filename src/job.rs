@@ -111,7 +111,13 @@ pub fn run_job(
     match config.experiment.kind {
         ExperimentKind::Collision => run_collision(config, fresh, &effective),
         _ => match choose_backend(options)? {
-            None => start(config, fresh, &effective, Compression::new(config)?, options),
+            None => start(
+                config,
+                fresh,
+                &effective,
+                Compression::new(config)?,
+                options,
+            ),
             Some(ctx) => {
                 let run = Compression::with_engine(config, |law, dt, m, walls, ps, ws| {
                     Ok(GpuEngine::new(ctx, law, dt, m, walls, ps, ws)?)
@@ -130,9 +136,7 @@ fn create_run_dir<T>(
     write: impl FnOnce(&RunDir) -> Result<T, RunError>,
 ) -> Result<(RunDir, T), RunError> {
     let run_id = new_run_id(effective, fresh.dir());
-    let dir = fresh
-        .create(&run_id, effective)
-        .map_err(RunError::Output)?;
+    let dir = fresh.create(&run_id, effective).map_err(RunError::Output)?;
     match write(&dir) {
         Ok(written) => Ok((dir, written)),
         Err(e) => {

@@ -155,12 +155,20 @@ fn a_stale_checkpoint_cannot_cut_back_a_newer_run() {
     assert_refused(
         &second,
         "run B into A's directory",
-        &[dir.to_str().unwrap(), "--force", "earlier run", "checkpoint.bin"],
+        &[
+            dir.to_str().unwrap(),
+            "--force",
+            "earlier run",
+            "checkpoint.bin",
+        ],
     );
     assert_unchanged(&dir, &after_a, "refused run B");
 
     assert_ok(&run(&b, &dir, &["--force"]), "run B --force");
-    assert!(!dir.join("checkpoint.bin").exists(), "A's checkpoint removed");
+    assert!(
+        !dir.join("checkpoint.bin").exists(),
+        "A's checkpoint removed"
+    );
     std::fs::write(dir.join("checkpoint.bin"), &stale).unwrap();
     let with_stale = tree(&dir);
     let curve_b = &with_stale[Path::new("curve.csv")];
@@ -170,7 +178,11 @@ fn a_stale_checkpoint_cannot_cut_back_a_newer_run() {
     assert_refused(
         &resumed,
         "resume A's stale checkpoint over B",
-        &["belongs to run", "holds the results of run", "nothing was changed"],
+        &[
+            "belongs to run",
+            "holds the results of run",
+            "nothing was changed",
+        ],
     );
     assert_unchanged(&dir, &with_stale, "refused resume");
 }
@@ -216,7 +228,12 @@ fn a_used_directory_is_refused_and_replaced_only_with_force() {
     );
     assert!(!dir.join("checkpoint.bin").exists());
     assert!(!dir.join("snapshots/snap_0000000300.vtu").exists());
-    for file in ["curve.csv", "profiles.csv", "snapshots/run.pvd", "config.toml"] {
+    for file in [
+        "curve.csv",
+        "profiles.csv",
+        "snapshots/run.pvd",
+        "config.toml",
+    ] {
         assert!(
             replaced[Path::new(file)] == reference[Path::new(file)],
             "{file} after --force differs from a run into an empty directory"
@@ -306,7 +323,11 @@ fn a_checkpoint_of_another_run_is_refused_before_any_file_changes() {
         "edited curve.csv",
         &["curve.csv", "differ", "nothing was changed"],
     );
-    assert_unchanged(&dir_a, &before, "A after the refused resume of an edited curve");
+    assert_unchanged(
+        &dir_a,
+        &before,
+        "A after the refused resume of an edited curve",
+    );
 
     // A curve shorter than the checkpoint recorded.
     std::fs::write(&curve, &text[..text.len() / 3]).unwrap();
@@ -317,7 +338,11 @@ fn a_checkpoint_of_another_run_is_refused_before_any_file_changes() {
         "truncated curve.csv",
         &["curve.csv", "fewer than", "nothing was changed"],
     );
-    assert_unchanged(&dir_a, &before, "A after the refused resume of a short curve");
+    assert_unchanged(
+        &dir_a,
+        &before,
+        "A after the refused resume of a short curve",
+    );
 }
 
 /// Setups that fail late (a sample footprint only the wall builder refuses, sample files that

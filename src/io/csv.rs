@@ -131,7 +131,9 @@ pub fn check_prefix(path: &Path, length: u64, hash: u64) -> io::Result<()> {
     while left > 0 {
         let n = file.read(&mut buf[..left.min(1 << 16) as usize])?;
         if n == 0 {
-            return Err(bad(format!("ends before the {length} bytes the checkpoint recorded")));
+            return Err(bad(format!(
+                "ends before the {length} bytes the checkpoint recorded"
+            )));
         }
         h.update(&buf[..n]);
         left -= n as u64;
@@ -248,6 +250,7 @@ fn split_header(line: &str) -> Result<Vec<String>, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::io::binary::fnv1a64;
     use std::fs;
 
     fn temp_path(name: &str) -> PathBuf {
@@ -349,6 +352,32 @@ mod tests {
         }
         fs::remove_file(&path).unwrap();
         assert!(read_csv(&path).unwrap_err().contains("bad.csv"));
+    }
+
+    #[test]
+    fn extent_is_the_files_length_and_hash_and_reopen_checks_it() {
+        let path = temp_path("extent.csv");
+        let mut w = CsvWriter::create(&path, &["a", "b"]).unwrap();
+        w.comment("run").unwrap();
+        w.write_row(&[1.0, 2.0]).unwrap();
+        let (length, hash) = w.extent();
+        w.write_row(&[3.0, 4.0]).unwrap();
+        drop(w);
+        let bytes = fs::read(&path).unwrap();
+        assert_eq!(fnv1a64(&bytes[..length as usize]), hash);
+        // Another file's hash or a longer length: refused, the file untouched.
+        for (l, h) in [(length, hash ^ 1), (bytes.len() as u64 + 1, hash)] {
+            assert!(CsvWriter::reopen(&path, 2, l, h).is_err());
+            assert_eq!(fs::read(&path).unwrap(), bytes);
+        }
+        let mut w = CsvWriter::reopen(&path, 2, length, hash).unwrap();
+        w.write_row(&[5.0, 6.0]).unwrap();
+        let (length, hash) = w.extent();
+        drop(w);
+        let bytes = fs::read(&path).unwrap();
+        assert_eq!((bytes.len() as u64, fnv1a64(&bytes)), (length, hash));
+        assert!(String::from_utf8_lossy(&bytes).ends_with("1,2\n5,6\n"));
+        fs::remove_file(&path).unwrap();
     }
 
     #[test]

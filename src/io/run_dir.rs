@@ -37,7 +37,14 @@ pub const OUTPUTS_BESIDE_CHECKPOINT: &str = ".";
 /// Whether `name`, directly inside an output directory, is a result dustdem writes.
 /// `config.toml` is not one: every run rewrites it, and it may be the user's own copy.
 fn is_result_file(name: &str) -> bool {
-    [RUN_ID_FILE, CURVE_FILE, PROFILE_FILE, PLOT_FILE, SUMMARY_FILE].contains(&name)
+    [
+        RUN_ID_FILE,
+        CURVE_FILE,
+        PROFILE_FILE,
+        PLOT_FILE,
+        SUMMARY_FILE,
+    ]
+    .contains(&name)
         || (name.starts_with("checkpoint") && name.ends_with(".bin"))
 }
 
@@ -65,8 +72,7 @@ pub fn earlier_results(dir: &Path) -> Result<Vec<PathBuf>, String> {
             for inner in fs::read_dir(&snapshots).map_err(at(&snapshots))? {
                 let inner = inner.map_err(at(&snapshots))?;
                 let file = inner.file_name().to_string_lossy().into_owned();
-                if inner.file_type().map_err(at(&snapshots))?.is_file() && is_snapshot_file(&file)
-                {
+                if inner.file_type().map_err(at(&snapshots))?.is_file() && is_snapshot_file(&file) {
                     found.push(Path::new(SNAPSHOT_DIR).join(file));
                 }
             }
@@ -78,10 +84,7 @@ pub fn earlier_results(dir: &Path) -> Result<Vec<PathBuf>, String> {
 
 /// The files of `found` for a message: top-level names, then the snapshots as one entry.
 fn describe(found: &[PathBuf]) -> String {
-    let snapshots = found
-        .iter()
-        .filter(|f| f.starts_with(SNAPSHOT_DIR))
-        .count();
+    let snapshots = found.iter().filter(|f| f.starts_with(SNAPSHOT_DIR)).count();
     let mut names: Vec<String> = found
         .iter()
         .filter(|f| !f.starts_with(SNAPSHOT_DIR))
@@ -304,8 +307,37 @@ mod tests {
         ] {
             assert!(is_result_file(name), "{name}");
         }
-        for name in ["config.toml", "notes.txt", "curve.csv.bak", "my.bin", "run.toml"] {
+        for name in [
+            "config.toml",
+            "notes.txt",
+            "curve.csv.bak",
+            "my.bin",
+            "run.toml",
+        ] {
             assert!(!is_result_file(name), "{name}");
+        }
+    }
+
+    #[test]
+    fn snapshot_files_are_told_from_other_files() {
+        for name in [
+            "snap_0000000100.vtu",
+            "snap_0000000100_failed.vtu",
+            "snap_0000000100.dump",
+            "walls_0000000100.vtp",
+            "run.pvd",
+            "walls.pvd",
+        ] {
+            assert!(is_snapshot_file(name), "{name}");
+        }
+        for name in [
+            "view.pvsm",
+            "snap_.vtu",
+            "snap_x.vtu",
+            "walls_1.vtu",
+            "other.pvd",
+        ] {
+            assert!(!is_snapshot_file(name), "{name}");
         }
     }
 
