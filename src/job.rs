@@ -12,6 +12,10 @@ use crate::io::binary::{Decoder, Encoder};
 use crate::io::checkpoint::{read_checkpoint, write_checkpoint};
 use crate::io::csv::{read_csv, CsvWriter};
 use crate::io::plot::{Plot, Series, Style};
+use crate::io::run_dir::{
+    check_resumable, new_run_id, resolve_outputs, NewRunDir, RunDir, CONFIG_FILE,
+    FAILED_CHECKPOINT_FILE, OUTPUTS_BESIDE_CHECKPOINT, PLOT_FILE, SUMMARY_FILE,
+};
 use crate::snapshots::write_snapshot;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -34,9 +38,7 @@ pub const BLUM_SCHRAEPLER_2004_UNI: Eq13 = Eq13 {
     delta: 0.33,
 };
 
-pub const CURVE_FILE: &str = "curve.csv";
-pub const PROFILE_FILE: &str = "profiles.csv";
-pub const CHECKPOINT_FILE: &str = "checkpoint.bin";
+pub use crate::io::run_dir::{CHECKPOINT_FILE, CURVE_FILE, PROFILE_FILE};
 const PROFILE_HEADER: [&str; 5] = ["step", "time_s", "phi_mean", "z_um", "phi"];
 
 /// What a finished job produced.
@@ -94,27 +96,53 @@ fn io_err(path: &Path) -> impl Fn(std::io::Error) -> RunError + '_ {
     move |e| RunError::Output(format!("{}: {e}", path.display()))
 }
 
-/// Runs `config`, writing into `out_dir`.
+/// Runs `config`, writing into `out_dir`. A directory holding the results of an earlier run
+/// is refused, unless `replace`: then those results (only files dustdem writes) are removed once
+/// the new run is set up. Everything that can fail in the setup (sample, walls, engine) is
+/// done before the directory is touched; if writing the first files fails, they are removed.
 pub fn run_job(
     config: &Config,
     out_dir: &Path,
+    replace: bool,
     options: &mut JobOptions,
 ) -> Result<JobSummary, RunError> {
-    std::fs::create_dir_all(out_dir).map_err(io_err(out_dir))?;
-    let config_path = out_dir.join("config.toml");
+    let fresh = NewRunDir::check(out_dir, replace).map_err(RunError::Output)?;
     let effective = toml::to_string(config).map_err(|e| RunError::Output(e.to_string()))?;
-    write_atomic(&config_path, effective.as_bytes()).map_err(io_err(&config_path))?;
     match config.experiment.kind {
-        ExperimentKind::Collision => run_collision(config, out_dir, config_path),
+        ExperimentKind::Collision => run_collision(config, fresh, &effective),
         _ => match choose_backend(options)? {
-            None => start(config, out_dir, Compression::new(config)?, options),
+            None => start(
+                config,
+                fresh,
+                &effective,
+                Compression::new(config)?,
+                options,
+            ),
             Some(ctx) => {
                 let run = Compression::with_engine(config, |law, dt, m, walls, ps, ws| {
                     Ok(GpuEngine::new(ctx, law, dt, m, walls, ps, ws)?)
                 })?;
-                start(config, out_dir, run, options)
+                start(config, fresh, &effective, run, options)
             }
         },
+    }
+}
+
+/// Creates the directory of a run that is set up: its id, effective config and what `write`
+/// writes. If anything fails, the run leaves nothing behind.
+fn create_run_dir<T>(
+    fresh: NewRunDir,
+    effective: &str,
+    write: impl FnOnce(&RunDir) -> Result<T, RunError>,
+) -> Result<(RunDir, T), RunError> {
+    let run_id = new_run_id(effective, fresh.dir());
+    let dir = fresh.create(&run_id, effective).map_err(RunError::Output)?;
+    match write(&dir) {
+        Ok(written) => Ok((dir, written)),
+        Err(e) => {
+            dir.discard();
+            Err(e)
+        }
     }
 }
 
@@ -146,37 +174,54 @@ fn choose_backend(options: &mut JobOptions) -> Result<Option<GpuContext>, RunErr
     Ok(context)
 }
 
-/// Creates the output tables and the first snapshot of a fresh compression, then runs it.
+/// Creates the run directory with the output tables and the first snapshot of a fresh
+/// compression, then runs it.
 fn start<E: Engine>(
     config: &Config,
-    out_dir: &Path,
+    fresh: NewRunDir,
+    effective: &str,
     run: Compression<E>,
     options: &mut JobOptions,
 ) -> Result<JobSummary, RunError> {
-    let curve_path = out_dir.join(CURVE_FILE);
-    let mut curve = CsvWriter::create(&curve_path, &Row::HEADER).map_err(io_err(&curve_path))?;
-    curve
-        .comment(&describe_run(config, &run))
-        .map_err(io_err(&curve_path))?;
-    let profile_path = out_dir.join(PROFILE_FILE);
-    let profiles =
-        CsvWriter::create(&profile_path, &PROFILE_HEADER).map_err(io_err(&profile_path))?;
-    write_snapshot(
-        out_dir,
-        config.output.snapshot_format,
-        &run.engine.state(),
-        "",
-    )
-    .map_err(io_err(out_dir))?;
-    drive(config, out_dir, run, curve, profiles, options)
+    let (dir, (curve, profiles)) = create_run_dir(fresh, effective, |dir| {
+        let curve_path = dir.dir.join(CURVE_FILE);
+        let mut curve =
+            CsvWriter::create(&curve_path, &Row::HEADER).map_err(io_err(&curve_path))?;
+        curve
+            .comment(&describe_run(config, &run))
+            .map_err(io_err(&curve_path))?;
+        let profile_path = dir.dir.join(PROFILE_FILE);
+        let profiles =
+            CsvWriter::create(&profile_path, &PROFILE_HEADER).map_err(io_err(&profile_path))?;
+        write_snapshot(
+            &dir.dir,
+            config.output.snapshot_format,
+            &run.engine.state(),
+            "",
+        )
+        .map_err(io_err(&dir.dir))?;
+        Ok((curve, profiles))
+    })?;
+    drive(config, &dir.dir, &dir.run_id, run, curve, profiles, options)
 }
 
-/// Continues the run a checkpoint belongs to, in the output directory it names: the curve and
-/// profile files are cut back to what they held at the checkpoint, then appended to. The run
-/// continues on the backend the options choose; on the backend that wrote the checkpoint it
-/// continues bit for bit.
+/// Continues the run a checkpoint belongs to, in the directory that holds the checkpoint:
+/// once that directory's run id and the curve and profile files are checked to be the ones
+/// the checkpoint recorded (before any file is changed), those files are cut back to what
+/// they held at the checkpoint, then appended to. The run continues on the backend the
+/// options choose; on the backend that wrote the checkpoint it continues bit for bit.
 pub fn resume_job(checkpoint: &Path, options: &mut JobOptions) -> Result<JobSummary, RunError> {
     let loaded = load_checkpoint(checkpoint)?;
+    check_resumable(
+        &loaded.out_dir,
+        checkpoint,
+        &loaded.run_id,
+        &[
+            (CURVE_FILE, loaded.curve_len, loaded.curve_hash),
+            (PROFILE_FILE, loaded.profile_len, loaded.profile_hash),
+        ],
+    )
+    .map_err(RunError::Output)?;
     match choose_backend(options)? {
         None => continue_job(loaded, loaded_run_cpu, options),
         Some(ctx) => continue_job(
@@ -200,38 +245,68 @@ fn continue_job<E: Engine>(
     let run = engine(loaded.run)?;
     let out_dir = loaded.out_dir;
     let curve_path = out_dir.join(CURVE_FILE);
-    let curve = CsvWriter::reopen(&curve_path, Row::HEADER.len(), loaded.curve_len)
-        .map_err(io_err(&curve_path))?;
+    let curve = CsvWriter::reopen(
+        &curve_path,
+        Row::HEADER.len(),
+        loaded.curve_len,
+        loaded.curve_hash,
+    )
+    .map_err(io_err(&curve_path))?;
     let profile_path = out_dir.join(PROFILE_FILE);
-    let profiles = CsvWriter::reopen(&profile_path, PROFILE_HEADER.len(), loaded.profile_len)
-        .map_err(io_err(&profile_path))?;
-    drive(&loaded.config, &out_dir, run, curve, profiles, options)
+    let profiles = CsvWriter::reopen(
+        &profile_path,
+        PROFILE_HEADER.len(),
+        loaded.profile_len,
+        loaded.profile_hash,
+    )
+    .map_err(io_err(&profile_path))?;
+    drive(
+        &loaded.config,
+        &out_dir,
+        &loaded.run_id,
+        run,
+        curve,
+        profiles,
+        options,
+    )
 }
 
-/// A checkpoint read back: the run, its config, and where its outputs are.
+/// A checkpoint read back: the run, its config and id, and where its outputs are with the
+/// length and FNV-1a hash each had when the checkpoint was written.
 pub struct LoadedCheckpoint {
+    pub run_id: String,
     pub config: Config,
+    /// The directory holding the checkpoint (checkpoints store it relative to themselves).
     pub out_dir: PathBuf,
     pub curve_len: u64,
+    pub curve_hash: u64,
     pub profile_len: u64,
+    pub profile_hash: u64,
     pub run: Compression,
 }
 
 /// Reads and checks a checkpoint file completely (header, checksum, config, state).
+///
+/// Body (format version 2): run id, effective config, output directory relative to the
+/// checkpoint's directory (each as u64 length + UTF-8), curve.csv length and hash,
+/// profiles.csv length and hash (u64 each), then the run's state.
 pub fn load_checkpoint(checkpoint: &Path) -> Result<LoadedCheckpoint, RunError> {
     let body = read_checkpoint(checkpoint).map_err(|e| RunError::Output(e.to_string()))?;
     let bad = |e: crate::io::binary::DecodeError| {
         RunError::Output(format!("checkpoint {}: {e}", checkpoint.display()))
     };
     let mut d = Decoder::new(&body);
+    let run_id = String::from_utf8_lossy(d.bytes_with_len("run id").map_err(bad)?).into_owned();
     let text = String::from_utf8_lossy(d.bytes_with_len("config").map_err(bad)?).into_owned();
     let origin = format!("config inside checkpoint {}", checkpoint.display());
     let config = Config::parse(&text, &origin).map_err(|e| RunError::Output(e.to_string()))?;
-    let out_dir = PathBuf::from(
-        String::from_utf8_lossy(d.bytes_with_len("output directory").map_err(bad)?).into_owned(),
-    );
+    let stored = d.bytes_with_len("output directory").map_err(bad)?;
+    let out_dir = resolve_outputs(checkpoint, &String::from_utf8_lossy(stored))
+        .map_err(|e| RunError::Output(format!("checkpoint {}: {e}", checkpoint.display())))?;
     let curve_len = d.u64("curve length").map_err(bad)?;
+    let curve_hash = d.u64("curve hash").map_err(bad)?;
     let profile_len = d.u64("profile length").map_err(bad)?;
+    let profile_hash = d.u64("profile hash").map_err(bad)?;
     let run = Compression::decode_state(&config, &mut d).map_err(bad)?;
     if d.remaining() != 0 {
         return Err(RunError::Output(format!(
@@ -241,10 +316,13 @@ pub fn load_checkpoint(checkpoint: &Path) -> Result<LoadedCheckpoint, RunError> 
         )));
     }
     Ok(LoadedCheckpoint {
+        run_id,
         config,
         out_dir,
         curve_len,
+        curve_hash,
         profile_len,
+        profile_hash,
         run,
     })
 }
@@ -264,20 +342,23 @@ fn describe_run<E: Engine>(config: &Config, run: &Compression<E>) -> String {
     )
 }
 
+/// The body of a checkpoint written into the run's directory (layout: [`load_checkpoint`]).
 fn checkpoint_body<E: Engine>(
     config: &Config,
-    out_dir: &Path,
+    run_id: &str,
     run: &Compression<E>,
-    curve: &Path,
-    profiles: &Path,
+    curve: &CsvWriter,
+    profiles: &CsvWriter,
 ) -> Result<Vec<u8>, RunError> {
     let mut e = Encoder::default();
+    e.bytes_with_len(run_id.as_bytes());
     let text = toml::to_string(config).map_err(|e| RunError::Output(e.to_string()))?;
     e.bytes_with_len(text.as_bytes());
-    let absolute = std::path::absolute(out_dir).map_err(io_err(out_dir))?;
-    e.bytes_with_len(absolute.to_string_lossy().as_bytes());
-    e.u64(std::fs::metadata(curve).map_err(io_err(curve))?.len());
-    e.u64(std::fs::metadata(profiles).map_err(io_err(profiles))?.len());
+    e.bytes_with_len(OUTPUTS_BESIDE_CHECKPOINT.as_bytes());
+    for (length, hash) in [curve.extent(), profiles.extent()] {
+        e.u64(length);
+        e.u64(hash);
+    }
     run.encode_state(&mut e);
     Ok(e.bytes)
 }
@@ -286,6 +367,7 @@ fn checkpoint_body<E: Engine>(
 fn drive<E: Engine>(
     config: &Config,
     out_dir: &Path,
+    run_id: &str,
     mut run: Compression<E>,
     mut curve: CsvWriter,
     mut profiles: CsvWriter,
@@ -347,7 +429,7 @@ fn drive<E: Engine>(
                 || (every_seconds > 0.0
                     && last_checkpoint.elapsed().as_secs_f64() >= every_seconds);
             if due || interrupted {
-                let body = checkpoint_body(config, out_dir, state, &curve_path, &profile_path)?;
+                let body = checkpoint_body(config, run_id, state, &curve, &profiles)?;
                 write_checkpoint(&checkpoint_path, &body).map_err(io_err(&checkpoint_path))?;
                 rows_since_checkpoint = 0;
                 last_checkpoint = Instant::now();
@@ -363,7 +445,9 @@ fn drive<E: Engine>(
     let stop = match stop {
         Ok(stop) => stop,
         Err(RunError::Engine(error)) => {
-            return Err(keep_failed_state(config, out_dir, &run, error))
+            return Err(keep_failed_state(
+                config, out_dir, run_id, &run, &curve, &profiles, error,
+            ))
         }
         Err(RunError::Gpu(GpuError::DeviceLost(why))) => {
             // Nothing on the device can be read: the last checkpoint is what survives.
@@ -392,18 +476,15 @@ fn drive<E: Engine>(
 fn keep_failed_state<E: Engine>(
     config: &Config,
     out_dir: &Path,
+    run_id: &str,
     run: &Compression<E>,
+    curve: &CsvWriter,
+    profiles: &CsvWriter,
     error: crate::cpu::EngineError,
 ) -> RunError {
     let mut kept = Vec::new();
-    let checkpoint = out_dir.join("checkpoint-failed.bin");
-    let body = checkpoint_body(
-        config,
-        out_dir,
-        run,
-        &out_dir.join(CURVE_FILE),
-        &out_dir.join(PROFILE_FILE),
-    );
+    let checkpoint = out_dir.join(FAILED_CHECKPOINT_FILE);
+    let body = checkpoint_body(config, run_id, run, curve, profiles);
     if let Ok(body) = body {
         if write_checkpoint(&checkpoint, &body).is_ok() {
             kept.push(checkpoint);
@@ -446,7 +527,7 @@ fn finish<E: Engine>(
         .filter(|r| r[ip] > 0.0)
         .map(|r| (r[ip], r[iphi]))
         .collect();
-    let plot_path = out_dir.join("curve.svg");
+    let plot_path = out_dir.join(PLOT_FILE);
     curve_plot(run.kind, &points)
         .save(&plot_path)
         .map_err(io_err(&plot_path))?;
@@ -467,7 +548,7 @@ fn finish<E: Engine>(
     Ok(JobSummary {
         out_dir: out_dir.to_path_buf(),
         files: vec![
-            out_dir.join("config.toml"),
+            out_dir.join(CONFIG_FILE),
             curve_path.to_path_buf(),
             profile_path.to_path_buf(),
             plot_path,
@@ -478,8 +559,8 @@ fn finish<E: Engine>(
 
 fn run_collision(
     config: &Config,
-    out_dir: &Path,
-    config_path: PathBuf,
+    fresh: NewRunDir,
+    effective: &str,
 ) -> Result<JobSummary, RunError> {
     let law = config.contact_law();
     let speed = config.experiment.collision_speed_m_s * 100.0;
@@ -501,12 +582,15 @@ fn run_collision(
             analytic_sticking_speed(&law) / 100.0
         ),
     ];
-    let summary_path = out_dir.join("summary.txt");
-    write_atomic(&summary_path, (lines.join("\n") + "\n").as_bytes())
-        .map_err(io_err(&summary_path))?;
+    let (dir, summary_path) = create_run_dir(fresh, effective, |dir| {
+        let summary_path = dir.dir.join(SUMMARY_FILE);
+        write_atomic(&summary_path, (lines.join("\n") + "\n").as_bytes())
+            .map_err(io_err(&summary_path))?;
+        Ok(summary_path)
+    })?;
     Ok(JobSummary {
-        out_dir: out_dir.to_path_buf(),
-        files: vec![config_path, summary_path],
+        files: vec![dir.dir.join(CONFIG_FILE), summary_path],
+        out_dir: dir.dir,
         lines,
     })
 }

@@ -47,6 +47,11 @@ enum Command {
         /// GPU when one fits, else cpu; software adapters such as lavapipe only with gpu).
         #[arg(long, default_value = "auto")]
         backend: Backend,
+        /// Replace the results of an earlier run in the output directory: once the new run is
+        /// set up, its checkpoints, snapshots and result files (only files dustdem writes) are
+        /// removed. Without it such a directory is refused.
+        #[arg(long)]
+        force: bool,
         #[command(flatten)]
         report: ReportArgs,
     },
@@ -235,6 +240,7 @@ fn run(
     config: Option<PathBuf>,
     out: Option<PathBuf>,
     backend: Backend,
+    force: bool,
     args: ReportArgs,
 ) -> Result<(), String> {
     let config = load_config(config.as_deref())?;
@@ -254,7 +260,7 @@ fn run(
         backend,
         notice: &mut notice,
     };
-    let result = run_job(&config, &out_dir, &mut options);
+    let result = run_job(&config, &out_dir, force, &mut options);
     reporter.finish();
     print_summary(&result.map_err(|e| e.to_string())?);
     Ok(())
@@ -507,8 +513,9 @@ fn main() -> ExitCode {
             config,
             out,
             backend,
+            force,
             report,
-        } => run(config, out, backend, report),
+        } => run(config, out, backend, force, report),
         Command::Resume {
             checkpoint,
             backend,

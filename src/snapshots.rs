@@ -9,6 +9,24 @@ use crate::io::snapshot::{
 use std::io;
 use std::path::{Path, PathBuf};
 
+/// The snapshot directory inside an output directory.
+pub const SNAPSHOT_DIR: &str = "snapshots";
+
+/// Whether `name` is a file [`write_snapshot`] writes: `snap_<step>[tag].vtu|.dump`,
+/// `walls_<step>[tag].vtp`, `run.pvd` or `walls.pvd`.
+pub fn is_snapshot_file(name: &str) -> bool {
+    let numbered = |prefix: &str, suffixes: &[&str]| {
+        name.strip_prefix(prefix).is_some_and(|rest| {
+            rest.starts_with(|c: char| c.is_ascii_digit())
+                && suffixes.iter().any(|s| rest.ends_with(s))
+        })
+    };
+    name == "run.pvd"
+        || name == "walls.pvd"
+        || numbered("snap_", &[".vtu", ".dump"])
+        || numbered("walls_", &[".vtp"])
+}
+
 fn arr(v: glam::DVec3) -> [f64; 3] {
     [v.x, v.y, v.z]
 }
@@ -26,7 +44,7 @@ pub fn write_snapshot(
     if choice == SnapshotChoice::None {
         return Ok(Vec::new());
     }
-    let dir = out_dir.join("snapshots");
+    let dir = out_dir.join(SNAPSHOT_DIR);
     std::fs::create_dir_all(&dir)?;
     let m = &engine.monomers;
     let n = m.len();

@@ -110,7 +110,18 @@ fn bad_checkpoints_are_refused() {
         (
             "wrong_version",
             spoil(&|b| b[16] = 7),
-            &["version 7", "version 1"],
+            &["version 7", "version 2", "newer"],
+        ),
+        (
+            "old_version",
+            spoil(&|b| b[16] = 1),
+            &[
+                "version 1",
+                "older dustdem",
+                "version 2",
+                "re-run",
+                "dustdem run",
+            ],
         ),
         (
             "big_endian",

@@ -16,7 +16,8 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 pub const MAGIC: &[u8; 12] = b"DUSTDEMCKPT\0";
-pub const VERSION: u32 = 1;
+/// 1: the first layout; 2: run id, output hashes, output directory relative to the file.
+pub const VERSION: u32 = 2;
 const ENDIAN_MARK: u32 = 0x0A0B_0C0D;
 const HEADER: usize = 36;
 
@@ -74,9 +75,17 @@ pub fn read_checkpoint(path: &Path) -> Result<Vec<u8>, CheckpointError> {
         )));
     }
     let version = word(16);
-    if version != VERSION {
+    if version < VERSION {
         return Err(fail(format!(
-            "format version {version}, this dustdem reads version {VERSION}"
+            "format version {version}, written by an older dustdem; this dustdem reads version \
+             {VERSION} only (since version 2 a checkpoint carries its run id and stores paths \
+             relative to itself). It cannot be resumed: re-run the job with `dustdem run`"
+        )));
+    }
+    if version > VERSION {
+        return Err(fail(format!(
+            "format version {version}, newer than version {VERSION}, the one this dustdem \
+             reads: resume it with the dustdem that wrote it"
         )));
     }
     let length = u64::from_le_bytes(bytes[20..28].try_into().unwrap());

@@ -2,16 +2,20 @@
 //! lines anywhere, numbers in shortest round-trip form so a file reads back
 //! bit for bit.
 
+use super::binary::Fnv1a;
 use std::fs::File;
-use std::io::{self, BufWriter, Write};
+use std::io::{self, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 
 /// Streams rows to a CSV file, flushing each one so that the rows of a run
-/// that dies mid-way are still on disk.
+/// that dies mid-way are still on disk. Keeps the length and FNV-1a hash of
+/// everything the file holds, so a checkpoint can record which bytes it expects.
 pub struct CsvWriter {
     out: BufWriter<File>,
     path: PathBuf,
     columns: usize,
+    length: u64,
+    hash: Fnv1a,
 }
 
 impl CsvWriter {
@@ -30,45 +34,51 @@ impl CsvWriter {
             .map(|h| quote(h))
             .collect::<Vec<_>>()
             .join(",");
-        let mut out = BufWriter::new(File::create(path)?);
-        writeln!(out, "{line}")?;
-        out.flush()?;
-        Ok(Self {
-            out,
+        let mut writer = Self {
+            out: BufWriter::new(File::create(path)?),
             path: path.to_path_buf(),
             columns: header.len(),
-        })
+            length: 0,
+            hash: Fnv1a::default(),
+        };
+        writer.emit(&format!("{line}\n"))?;
+        Ok(writer)
     }
 
     /// Reopens a table written by [`CsvWriter::create`] to append to it, first cutting it back
     /// to `length` bytes (its size when a checkpoint was taken), so rows written after that
-    /// checkpoint are not duplicated when a resumed run writes them again.
-    pub fn reopen(path: impl AsRef<Path>, columns: usize, length: u64) -> io::Result<Self> {
+    /// checkpoint are not duplicated when a resumed run writes them again. The first `length`
+    /// bytes must hash to `hash` (what [`CsvWriter::extent`] reported then); otherwise the file
+    /// is another one and is left untouched.
+    pub fn reopen(
+        path: impl AsRef<Path>,
+        columns: usize,
+        length: u64,
+        hash: u64,
+    ) -> io::Result<Self> {
         let path = path.as_ref();
-        let file = std::fs::OpenOptions::new().write(true).open(path)?;
-        let size = file.metadata()?.len();
-        if size < length {
-            return Err(io::Error::new(
-                io::ErrorKind::InvalidData,
-                format!("has {size} bytes, fewer than the {length} the checkpoint recorded"),
-            ));
-        }
+        check_prefix(path, length, hash)?;
+        let mut file = std::fs::OpenOptions::new().write(true).open(path)?;
         file.set_len(length)?;
-        let mut file = file;
         io::Seek::seek(&mut file, io::SeekFrom::End(0))?;
         Ok(Self {
             out: BufWriter::new(file),
             path: path.to_path_buf(),
             columns,
+            length,
+            hash: Fnv1a(hash),
         })
+    }
+
+    /// Length in bytes and FNV-1a 64 hash of everything the file holds.
+    pub fn extent(&self) -> (u64, u64) {
+        (self.length, self.hash.0)
     }
 
     /// Writes `text` as `#` comment lines, e.g. run parameters.
     pub fn comment(&mut self, text: &str) -> io::Result<()> {
-        for line in text.lines() {
-            writeln!(self.out, "# {line}")?;
-        }
-        self.out.flush()
+        let lines: String = text.lines().map(|line| format!("# {line}\n")).collect();
+        self.emit(&lines)
     }
 
     pub fn write_row(&mut self, row: &[f64]) -> io::Result<()> {
@@ -90,9 +100,51 @@ impl CsvWriter {
             }
             line.push_str(&format_number(v));
         }
-        writeln!(self.out, "{line}")?;
-        self.out.flush()
+        line.push('\n');
+        self.emit(&line)
     }
+
+    /// Appends `text` to the file, flushed, and to the length and hash.
+    fn emit(&mut self, text: &str) -> io::Result<()> {
+        self.out.write_all(text.as_bytes())?;
+        self.out.flush()?;
+        self.length += text.len() as u64;
+        self.hash.update(text.as_bytes());
+        Ok(())
+    }
+}
+
+/// Checks that the file at `path` is at least `length` bytes long and that its first `length`
+/// bytes hash (FNV-1a 64) to `hash`; reads only, changes nothing.
+pub fn check_prefix(path: &Path, length: u64, hash: u64) -> io::Result<()> {
+    let bad = |what: String| io::Error::new(io::ErrorKind::InvalidData, what);
+    let mut file = File::open(path)?;
+    let size = file.metadata()?.len();
+    if size < length {
+        return Err(bad(format!(
+            "has {size} bytes, fewer than the {length} the checkpoint recorded"
+        )));
+    }
+    let mut h = Fnv1a::default();
+    let mut left = length;
+    let mut buf = vec![0u8; 1 << 16];
+    while left > 0 {
+        let n = file.read(&mut buf[..left.min(1 << 16) as usize])?;
+        if n == 0 {
+            return Err(bad(format!(
+                "ends before the {length} bytes the checkpoint recorded"
+            )));
+        }
+        h.update(&buf[..n]);
+        left -= n as u64;
+    }
+    if h.0 != hash {
+        return Err(bad(format!(
+            "its first {length} bytes differ from those the checkpoint recorded: the file was \
+             changed or written by another run"
+        )));
+    }
+    Ok(())
 }
 
 /// Shortest string that parses back to exactly `v`: plain decimals for
@@ -198,6 +250,7 @@ fn split_header(line: &str) -> Result<Vec<String>, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::io::binary::fnv1a64;
     use std::fs;
 
     fn temp_path(name: &str) -> PathBuf {
@@ -299,6 +352,32 @@ mod tests {
         }
         fs::remove_file(&path).unwrap();
         assert!(read_csv(&path).unwrap_err().contains("bad.csv"));
+    }
+
+    #[test]
+    fn extent_is_the_files_length_and_hash_and_reopen_checks_it() {
+        let path = temp_path("extent.csv");
+        let mut w = CsvWriter::create(&path, &["a", "b"]).unwrap();
+        w.comment("run").unwrap();
+        w.write_row(&[1.0, 2.0]).unwrap();
+        let (length, hash) = w.extent();
+        w.write_row(&[3.0, 4.0]).unwrap();
+        drop(w);
+        let bytes = fs::read(&path).unwrap();
+        assert_eq!(fnv1a64(&bytes[..length as usize]), hash);
+        // Another file's hash or a longer length: refused, the file untouched.
+        for (l, h) in [(length, hash ^ 1), (bytes.len() as u64 + 1, hash)] {
+            assert!(CsvWriter::reopen(&path, 2, l, h).is_err());
+            assert_eq!(fs::read(&path).unwrap(), bytes);
+        }
+        let mut w = CsvWriter::reopen(&path, 2, length, hash).unwrap();
+        w.write_row(&[5.0, 6.0]).unwrap();
+        let (length, hash) = w.extent();
+        drop(w);
+        let bytes = fs::read(&path).unwrap();
+        assert_eq!((bytes.len() as u64, fnv1a64(&bytes)), (length, hash));
+        assert!(String::from_utf8_lossy(&bytes).ends_with("1,2\n5,6\n"));
+        fs::remove_file(&path).unwrap();
     }
 
     #[test]

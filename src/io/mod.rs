@@ -4,4 +4,5 @@ pub mod binary;
 pub mod checkpoint;
 pub mod csv;
 pub mod plot;
+pub mod run_dir;
 pub mod snapshot;
