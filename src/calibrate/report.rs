@@ -4,10 +4,9 @@
 
 use super::attribution::Decision;
 use super::gap::{chi2_quantile_95, targets, CurveGap, Gap, Prediction};
-use super::raster::{draw_panel, Canvas, Mark, Panel, PanelSeries, BLACK, BLUE, RED};
 use super::workflow::{describe_decision, Calibration};
 use crate::io::atomic::write_atomic;
-use crate::io::plot::{Plot, Series, Style};
+use crate::io::plot::{panels_png, Plot, Series, Style, BLACK, PALETTE};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -87,12 +86,18 @@ pub fn write_outputs(
         CORRECTED_FILE,
         corrected_config(cal, measured, config_path).as_bytes(),
     )?);
-    let png = plot_png(cal)
-        .to_png()
-        .map_err(|e| format!("{PLOT_FILE}: {e}"))?;
+    let panels = plot_panels(cal);
+    let png = panels_png(&panels).map_err(|e| format!("{PLOT_FILE}: {e}"))?;
     files.push(write(PLOT_FILE, &png)?);
-    for (k, svg) in plot_svgs(cal).into_iter().enumerate() {
-        files.push(write(&format!("curve_{}.svg", k + 1), svg.as_bytes())?);
+    // The compression panels again, one SVG each.
+    for (k, panel) in panels
+        .iter()
+        .take(cal.measured.compression.len())
+        .enumerate()
+    {
+        let name = format!("curve_{}.svg", k + 1);
+        let svg = panel.to_svg().map_err(|e| format!("{name}: {e}"))?;
+        files.push(write(&name, svg.as_bytes())?);
     }
     files.push(write(
         REPORT_FILE,
@@ -379,125 +384,65 @@ fn sticking_velocity(prediction: &Prediction) -> f64 {
     }
 }
 
-/// One panel per compression curve and one for the sticking velocities, side by side.
-pub fn plot_png(cal: &Calibration) -> Canvas {
+/// One panel per compression curve and one per sticking velocity, measured (with 1σ bars)
+/// against baseline and corrected; side by side in `calibration.png`.
+pub fn plot_panels(cal: &Calibration) -> Vec<Plot> {
     let m = &cal.measured;
     let targets = targets(m);
+    let model = |baseline: Vec<(f64, f64)>, corrected: Vec<(f64, f64)>, names: bool| {
+        let name = |s: &str| if names { s.to_string() } else { String::new() };
+        [
+            Series::new(name("baseline"), baseline, Style::Dashed).color(PALETTE[1]),
+            Series::new(name("corrected"), corrected, Style::Line).color(PALETTE[0]),
+        ]
+    };
     let mut panels = Vec::new();
     for (k, curve) in m.compression.iter().enumerate() {
-        panels.push(Panel {
-            title: curve.name.clone(),
-            x_label: "P (Pa)".into(),
-            y_label: "phi".into(),
-            x_log: true,
-            categories: Vec::new(),
-            series: vec![
-                PanelSeries {
-                    label: "measured".into(),
-                    colour: BLACK,
-                    mark: Mark::ErrorBars,
-                    points: curve
-                        .pressure
-                        .iter()
-                        .zip(&curve.phi)
-                        .zip(&curve.phi_sigma)
-                        .map(|((&p, &v), &s)| (p, v, s))
-                        .collect(),
-                },
-                PanelSeries {
-                    label: "baseline".into(),
-                    colour: RED,
-                    mark: Mark::Line,
-                    points: compression_points(&targets[k], &cal.baseline[k]),
-                },
-                PanelSeries {
-                    label: "corrected".into(),
-                    colour: BLUE,
-                    mark: Mark::Line,
-                    points: compression_points(&targets[k], &cal.final_predictions[k]),
-                },
-            ],
-        });
+        let xy = |pts: Vec<(f64, f64, f64)>| pts.into_iter().map(|p| (p.0, p.1)).collect();
+        let mut measured = Series::new(
+            "measured",
+            curve
+                .pressure
+                .iter()
+                .copied()
+                .zip(curve.phi.clone())
+                .collect(),
+            Style::ErrorBars,
+        );
+        measured.sigma = curve.phi_sigma.clone();
+        let mut plot = Plot::new(&curve.name, "pressure P [Pa]", "filling factor φ");
+        plot.x_log = true;
+        plot.series = vec![measured.color(BLACK)];
+        plot.series.extend(model(
+            xy(compression_points(&targets[k], &cal.baseline[k])),
+            xy(compression_points(&targets[k], &cal.final_predictions[k])),
+            true,
+        ));
+        panels.push(plot);
     }
     let n = m.compression.len();
     for (k, stick) in m.sticking.iter().enumerate() {
-        let at = |x: f64, v: f64| vec![(x, v, 0.0)];
-        panels.push(Panel {
-            title: stick.name.clone(),
-            x_label: String::new(),
-            y_label: "v stick (m/s)".into(),
-            x_log: false,
-            categories: vec!["measured".into(), "baseline".into(), "corrected".into()],
-            series: vec![
-                PanelSeries {
-                    label: "measured".into(),
-                    colour: BLACK,
-                    mark: Mark::ErrorBars,
-                    points: vec![(1.0, stick.velocity, stick.sigma)],
-                },
-                PanelSeries {
-                    label: "baseline".into(),
-                    colour: RED,
-                    mark: Mark::Line,
-                    points: at(2.0, sticking_velocity(&cal.baseline[n + k])),
-                },
-                PanelSeries {
-                    label: "corrected".into(),
-                    colour: BLUE,
-                    mark: Mark::Line,
-                    points: at(3.0, sticking_velocity(&cal.final_predictions[n + k])),
-                },
-            ],
-        });
+        let mut measured = Series::new("", vec![(1.0, stick.velocity)], Style::ErrorBars);
+        measured.sigma = vec![stick.sigma];
+        let mut plot = Plot::new(&stick.name, "", "sticking speed v [m/s]");
+        plot.x_range = Some((0.5, 3.5));
+        plot.x_ticks = ["measured", "baseline", "corrected"]
+            .into_iter()
+            .enumerate()
+            .map(|(k, name)| (k as f64 + 1.0, name.to_string()))
+            .collect();
+        plot.series = vec![measured.color(BLACK)];
+        plot.series.extend(model(
+            vec![(2.0, sticking_velocity(&cal.baseline[n + k]))],
+            vec![(3.0, sticking_velocity(&cal.final_predictions[n + k]))],
+            false,
+        ));
+        panels.push(plot);
     }
-    let (w, h) = (560.0, 420.0);
-    let mut canvas = Canvas::new((w as usize) * panels.len().max(1), h as usize);
-    for (k, panel) in panels.iter().enumerate() {
-        draw_panel(&mut canvas, panel, k as f64 * w, 0.0, w, h);
+    for p in &mut panels {
+        (p.width, p.height) = (560, 420);
     }
-    canvas
-}
-
-/// The same comparison as labelled SVG (system fonts), one per compression curve.
-fn plot_svgs(cal: &Calibration) -> Vec<String> {
-    let targets = targets(&cal.measured);
-    cal.measured
-        .compression
-        .iter()
-        .enumerate()
-        .map(|(k, curve)| {
-            let xy = |pts: Vec<(f64, f64, f64)>| pts.into_iter().map(|p| (p.0, p.1)).collect();
-            let mut plot = Plot::new(
-                format!("{}: measured, baseline, corrected", curve.name),
-                "P [Pa]",
-                "filling factor φ",
-            );
-            plot.x_log = true;
-            plot.series = vec![
-                Series::new(
-                    "measured",
-                    curve
-                        .pressure
-                        .iter()
-                        .copied()
-                        .zip(curve.phi.clone())
-                        .collect(),
-                    Style::Markers,
-                ),
-                Series::new(
-                    "baseline",
-                    xy(compression_points(&targets[k], &cal.baseline[k])),
-                    Style::Line,
-                ),
-                Series::new(
-                    "corrected",
-                    xy(compression_points(&targets[k], &cal.final_predictions[k])),
-                    Style::Dashed,
-                ),
-            ];
-            plot.to_svg()
-        })
-        .collect()
+    panels
 }
 
 #[cfg(test)]
