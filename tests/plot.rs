@@ -8,8 +8,14 @@ use quick_xml::events::Event;
 use quick_xml::Reader;
 
 fn sample() -> Plot {
-    let xs: Vec<f64> = (0..=40).map(|i| 10f64.powf(2.0 + i as f64 / 10.0)).collect();
-    let curve = |d: f64| xs.iter().map(|&x| (x, 0.15 + 0.4 / (1.0 + d / x))).collect();
+    let xs: Vec<f64> = (0..=40)
+        .map(|i| 10f64.powf(2.0 + i as f64 / 10.0))
+        .collect();
+    let curve = |d: f64| {
+        xs.iter()
+            .map(|&x| (x, 0.15 + 0.4 / (1.0 + d / x)))
+            .collect()
+    };
     let mut errors = Series::new("error bars", curve(3e3), Style::ErrorBars);
     errors.points = errors.points.into_iter().step_by(5).collect();
     errors.sigma = vec![0.02; errors.points.len()];
@@ -178,8 +184,44 @@ fn panels_png_decodes_at_the_panels_size_with_the_series_colours() {
             .filter(|(k, px)| (x0..x1).contains(&(k % 860)) && *px == want)
             .count()
     };
-    assert!(count(PALETTE[0], 0, 560) > 500, "{}", count(PALETTE[0], 0, 560));
-    assert!(count(0xD55E00, 560, 860) >= 2 * 24, "the dash of the second panel");
+    assert!(
+        count(PALETTE[0], 0, 560) > 500,
+        "{}",
+        count(PALETTE[0], 0, 560)
+    );
+    assert!(
+        count(0xD55E00, 560, 860) >= 2 * 24,
+        "the dash of the second panel"
+    );
+}
+
+#[test]
+fn png_lines_that_repeat_points_and_turn_back_stay_inside_the_frame() {
+    // Noisy pressure: the curve steps back and forth and repeats points. plotters' bitmap
+    // rasteriser draws a zero-length step of a wide line to the image's corner and spikes at
+    // sharp turns; neither may show outside the frame.
+    let points: Vec<(f64, f64)> = (0..400)
+        .map(|i| {
+            let p = 10f64.powf(2.0 + (i / 2) as f64 / 100.0) * if i % 4 < 2 { 1.0 } else { 30.0 };
+            (p, 0.1 + 0.001 * (i / 2) as f64)
+        })
+        .collect();
+    let plot = dustdem::job::curve_plot(ExperimentKind::Omni, &points);
+    let bytes = panels_png(&[plot]).unwrap();
+    let mut reader = png::Decoder::new(bytes.as_slice()).read_info().unwrap();
+    let mut rgb = vec![0; reader.output_buffer_size()];
+    reader.next_frame(&mut rgb).unwrap();
+    let want = [0x00, 0x72, 0xB2];
+    let columns: Vec<usize> = rgb
+        .chunks(3)
+        .enumerate()
+        .filter(|(_, px)| *px == want)
+        .map(|(k, _)| k % 640)
+        .collect();
+    assert!(columns.len() > 1000, "the curve is drawn");
+    // The frame spans about x = 86..614 (y-label area 74 px and margins of 12 and 26 px).
+    let outside = columns.iter().filter(|&&x| !(80..620).contains(&x)).count();
+    assert_eq!(outside, 0, "pixels of the curve outside the frame");
 }
 
 #[test]
@@ -207,8 +249,15 @@ fn compression_curve_shows_simulation_and_reference_over_seven_decades() {
     let path = dir.join("curve.svg");
     std::fs::write(&path, "old").unwrap();
     plot.save(&path).unwrap();
-    assert_eq!(std::fs::read_to_string(&path).unwrap(), plot.to_svg().unwrap());
-    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "no temporary left");
+    assert_eq!(
+        std::fs::read_to_string(&path).unwrap(),
+        plot.to_svg().unwrap()
+    );
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        1,
+        "no temporary left"
+    );
     assert!(plot.save(dir.join("missing").join("curve.svg")).is_err());
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -384,8 +384,8 @@ fn sticking_velocity(prediction: &Prediction) -> f64 {
     }
 }
 
-/// One panel per compression curve and one per sticking velocity, measured (with 1σ bars)
-/// against baseline and corrected; side by side in `calibration.png`.
+/// One panel per compression curve and one per sticking velocity: baseline and corrected
+/// model under the measured points (with 1σ bars); side by side in `calibration.png`.
 pub fn plot_panels(cal: &Calibration) -> Vec<Plot> {
     let m = &cal.measured;
     let targets = targets(m);
@@ -412,12 +412,13 @@ pub fn plot_panels(cal: &Calibration) -> Vec<Plot> {
         measured.sigma = curve.phi_sigma.clone();
         let mut plot = Plot::new(&curve.name, "pressure P [Pa]", "filling factor φ");
         plot.x_log = true;
-        plot.series = vec![measured.color(BLACK)];
-        plot.series.extend(model(
+        plot.series = model(
             xy(compression_points(&targets[k], &cal.baseline[k])),
             xy(compression_points(&targets[k], &cal.final_predictions[k])),
             true,
-        ));
+        )
+        .into();
+        plot.series.push(measured.color(BLACK));
         panels.push(plot);
     }
     let n = m.compression.len();
@@ -431,12 +432,13 @@ pub fn plot_panels(cal: &Calibration) -> Vec<Plot> {
             .enumerate()
             .map(|(k, name)| (k as f64 + 1.0, name.to_string()))
             .collect();
-        plot.series = vec![measured.color(BLACK)];
-        plot.series.extend(model(
+        plot.series = model(
             vec![(2.0, sticking_velocity(&cal.baseline[n + k]))],
             vec![(3.0, sticking_velocity(&cal.final_predictions[n + k]))],
             false,
-        ));
+        )
+        .into();
+        plot.series.push(measured.color(BLACK));
         panels.push(plot);
     }
     for p in &mut panels {

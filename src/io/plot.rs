@@ -47,13 +47,12 @@ pub struct Series {
 
 impl Series {
     pub fn new(name: impl Into<String>, points: Vec<(f64, f64)>, style: Style) -> Self {
-        let (name, sigma, color) = (name.into(), Vec::new(), None);
         Self {
-            name,
+            name: name.into(),
             points,
             style,
-            sigma,
-            color,
+            sigma: Vec::new(),
+            color: None,
         }
     }
 
@@ -86,19 +85,30 @@ pub struct Plot {
 }
 
 impl Plot {
-    pub fn new(title: impl Into<String>, x: impl Into<String>, y: impl Into<String>) -> Self {
-        let (title, x_label, y_label) = (title.into(), x.into(), y.into());
-        let (series, x_ticks, x_range, y_range) = (Vec::new(), Vec::new(), None, None);
-        let (x_log, y_log, width, height) = (false, false, 640, 480);
-        #[rustfmt::skip]
-        let plot = Self { title, x_label, y_label, x_log, y_log, series, x_range, y_range, x_ticks, width, height };
-        plot
+    pub fn new(
+        title: impl Into<String>,
+        x_label: impl Into<String>,
+        y_label: impl Into<String>,
+    ) -> Self {
+        Self {
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            x_log: false,
+            y_log: false,
+            series: Vec::new(),
+            x_range: None,
+            y_range: None,
+            x_ticks: Vec::new(),
+            width: 640,
+            height: 480,
+        }
     }
 
     pub fn to_svg(&self) -> Result<String, String> {
         let mut svg = String::new();
         let root = SVGBackend::with_string(&mut svg, (self.width, self.height)).into_drawing_area();
-        draw(self, &root)?;
+        draw(self, &root, true)?;
         root.present().map_err(err)?;
         drop(root);
         Ok(svg)
@@ -119,7 +129,7 @@ pub fn panels_png(panels: &[Plot]) -> Result<Vec<u8>, String> {
     let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
     let mut x = 0;
     for p in panels {
-        draw(p, &root.clone().shrink((x, 0), (p.width, h)))?;
+        draw(p, &root.clone().shrink((x, 0), (p.width, h)), false)?;
         x += p.width as i32;
     }
     root.present().map_err(err)?;
@@ -148,7 +158,13 @@ fn register_font() -> Result<(), String> {
         .ok_or_else(|| err("the embedded font is invalid"))
 }
 
-fn draw<DB: DrawingBackend>(p: &Plot, area: &DrawingArea<DB, Shift>) -> Result<(), String> {
+/// Draws `p` into `area`: grid, axes, frame, series, legend. `joined`: lines as polylines
+/// (SVG), else segment by segment (bitmap).
+fn draw<DB: DrawingBackend>(
+    p: &Plot,
+    area: &DrawingArea<DB, Shift>,
+    joined: bool,
+) -> Result<(), String> {
     register_font()?;
     area.fill(&WHITE).map_err(err)?;
     let pts = || {
@@ -192,6 +208,7 @@ fn draw<DB: DrawingBackend>(p: &Plot, area: &DrawingArea<DB, Shift>) -> Result<(
         RGBColor(0, 0, 0).stroke_width(1),
     );
     chart.plotting_area().draw(&frame).map_err(err)?;
+    // Visible points per quarter of the frame, for the legend's place.
     let mut crowd = [0usize; 4];
     for (i, s) in p.series.iter().enumerate() {
         let c = s.color.unwrap_or(PALETTE[i % PALETTE.len()]);
@@ -212,22 +229,33 @@ fn draw<DB: DrawingBackend>(p: &Plot, area: &DrawingArea<DB, Shift>) -> Result<(
             crowd[usize::from(q.0 > (bx.0 + bx.1) / 2.0)
                 + 2 * usize::from(q.1 < (by.0 + by.1) / 2.0)] += 1;
         }
+        // Whole polylines, without repeated pixels (plotters' bitmap rasteriser turns a
+        // zero-length step of a wide line into a stroke to the image's corner); in a bitmap a
+        // solid line goes segment by segment, as its joins spike where the line turns back.
+        let px = |q: &(f64, f64)| chart.backend_coord(q);
+        let mut paths = runs(&placed, bx, by);
+        paths
+            .iter_mut()
+            .for_each(|r| r.dedup_by(|b, a| px(a) == px(b)));
+        paths.retain(|r| r.len() > 1);
+        if !joined && s.style == Style::Line {
+            paths = paths
+                .iter()
+                .flat_map(|r| r.windows(2).map(<[_]>::to_vec))
+                .collect();
+        }
         let dot = |q| Circle::new(q, 4, fill);
         let anno = match s.style {
             Style::Line | Style::Dashed if visible.len() == 1 => {
                 let dash = |q: &(f64, f64)| {
-                    EmptyElement::at(*q) + PathElement::new([(-12, 0), (12, 0)], line)
+                    EmptyElement::at(*q) + PathElement::new([(-18, 0), (18, 0)], line)
                 };
                 chart.draw_series(visible.iter().map(dash))
             }
-            Style::Line => chart.draw_series(
-                runs(&placed, bx, by)
-                    .into_iter()
-                    .map(|r| PathElement::new(r, line)),
-            ),
+            Style::Line => chart.draw_series(paths.into_iter().map(|r| PathElement::new(r, line))),
             Style::Dashed => {
                 let dashed = |r| DashedPathElement::new(r, 8, 5, line);
-                chart.draw_series(runs(&placed, bx, by).into_iter().map(dashed))
+                chart.draw_series(paths.into_iter().map(dashed))
             }
             Style::Markers => chart.draw_series(visible.into_iter().map(dot)),
             Style::ErrorBars => {
