@@ -113,6 +113,29 @@ fn svg_has_title_labels_decades_legend_and_every_series() {
 }
 
 #[test]
+fn ticks_thin_many_decades_and_write_signs_and_large_numbers() {
+    let texts = |x_range: (f64, f64), y_range: (f64, f64)| {
+        let mut plot = Plot::new("", "", "");
+        (plot.x_log, plot.x_range, plot.y_range) = (true, Some(x_range), Some(y_range));
+        Svg::parse(&plot.to_svg().unwrap()).texts
+    };
+    let wide = texts((1e-100, 1e100), (-1e7, 1e7));
+    let decades = wide.iter().filter(|t| t.starts_with("10")).count();
+    assert!((5..=11).contains(&decades), "{wide:?}");
+    assert!(wide.contains(&"10⁻¹⁰⁰".to_string()), "{wide:?}");
+    for tick in ["−1.0e7", "0", "5.0e6"] {
+        assert!(wide.contains(&tick.to_string()), "{tick}: {wide:?}");
+    }
+    let few = texts((1e-3, 1e2), (0.1, 0.6));
+    for tick in ["10⁻³", "10⁻¹", "10⁰", "10²", "0.1", "0.6"] {
+        assert!(few.contains(&tick.to_string()), "{tick}: {few:?}");
+    }
+    // Less than a decade is widened to whole decades.
+    let narrow = texts((2e3, 3e3), (0.0, 1.0));
+    assert!(narrow.contains(&"10³".to_string()) && narrow.contains(&"10⁴".to_string()));
+}
+
+#[test]
 fn unplaceable_points_break_the_line_and_are_left_out() {
     let mut plot = Plot::new("", "x", "y");
     (plot.x_log, plot.y_log, plot.y_range) = (true, true, Some((1.0, 1e5)));
