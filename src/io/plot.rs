@@ -138,6 +138,8 @@ pub fn panels_png(panels: &[Plot]) -> Result<Vec<u8>, String> {
     let mut encoder = png::Encoder::new(&mut out, w, h);
     encoder.set_color(png::ColorType::Rgb);
     encoder.set_depth(png::BitDepth::Eight);
+    encoder.set_compression(png::Compression::Best);
+    encoder.set_adaptive_filter(png::AdaptiveFilterType::Adaptive);
     let mut writer = encoder.write_header().map_err(err)?;
     writer.write_image_data(&rgb).map_err(err)?;
     writer.finish().map_err(err)?;
