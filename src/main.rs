@@ -9,7 +9,7 @@ use dustdem::config::{stable_time_step, Config, ExperimentKind};
 use dustdem::experiment::collision::analytic_sticking_speed;
 use dustdem::experiment::setup::build_sample;
 use dustdem::gpu::buffers::Sizes;
-use dustdem::gpu::context::{GpuContext, Requirements};
+use dustdem::gpu::context::{GpuContext, PrivateRuntimeDir, Requirements};
 use dustdem::io::csv::read_csv;
 use dustdem::job::{
     resume_job, run_job, Backend, JobOptions, JobSummary, Progress, DEFAULT_CONFIG,
@@ -31,6 +31,10 @@ use std::sync::Arc;
     about = "Molecular dynamics of porous dust agglomerates"
 )]
 struct Cli {
+    /// Show what the libraries behind the GPU probe print on stderr (the Vulkan loader,
+    /// drivers and layers); without it the probe is kept quiet (see GpuContext's notes).
+    #[arg(short, long, global = true)]
+    verbose: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -502,6 +506,15 @@ fn synth(
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // Only these look for a GPU (`--backend cpu` never does). Before any thread starts.
+    let probes = match &cli.command {
+        Command::Run { backend, .. } | Command::Resume { backend, .. } => *backend != Backend::Cpu,
+        Command::Info { .. } => true,
+        _ => false,
+    };
+    let _runtime_dir = (probes && !cli.verbose)
+        .then(PrivateRuntimeDir::ensure)
+        .flatten();
     let result = match cli.command {
         Command::Run {
             config,
