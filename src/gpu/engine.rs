@@ -14,6 +14,7 @@ use super::shader::ShaderError;
 use crate::cpu::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
 use crate::cpu::{CpuEngine, EnergyReport, EngineError};
 use crate::experiment::compression::{Engine, RunError};
+use crate::experiment::simulated_time;
 use crate::model::ContactLaw;
 use glam::DVec3;
 use std::borrow::Cow;
@@ -132,6 +133,7 @@ pub struct GpuEngine {
     /// One per entry point, in kernels::ENTRY_POINTS order.
     bind_groups: Vec<wgpu::BindGroup>,
     pub step: u64,
+    /// Simulated time [s], [`simulated_time`] of `step`.
     pub time: f64,
     /// Steps per submission and between reads of the small block.
     pub readback_every: u64,
@@ -261,7 +263,7 @@ impl GpuEngine {
             state.walls.clone(),
         )?;
         engine.step = state.step;
-        engine.time = state.time;
+        engine.time = simulated_time(state.step, state.dt);
         engine.totals[..7].copy_from_slice(&state.tally.channels());
         engine.totals[7] = state.wall_work;
         engine.read_small()?;
@@ -551,7 +553,7 @@ impl GpuEngine {
             }
         }
         self.step += steps;
-        self.time += steps as f64 * self.dt;
+        self.time = simulated_time(self.step, self.dt);
         self.read_small()?;
         self.clear_wall_force_sum();
         Ok(())
@@ -940,8 +942,8 @@ impl Engine for GpuEngine {
     fn step_count(&self) -> u64 {
         self.step
     }
-    fn time(&self) -> f64 {
-        self.time
+    fn dt(&self) -> f64 {
+        self.dt
     }
     fn run_mean_wall_force(&mut self, steps: u64) -> Result<Vec<DVec3>, RunError> {
         Ok(GpuEngine::run_mean_wall_force(self, steps)?)
