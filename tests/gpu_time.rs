@@ -17,15 +17,19 @@ const CONFIG: &str = "[sample]\nmonomers = 200\nseed = 4\n[experiment]\nmax_step
                       average_steps = 100\nprofile_every_rows = 4\n[output]\n\
                       snapshot_format = \"none\"\n";
 
+/// (step, time_s) of each row.
+type Times = Vec<(f64, f64)>;
+
 /// The (step, time_s) pairs of `file` in `out`.
-fn times(out: &Path, file: &str) -> Vec<(f64, f64)> {
+fn times(out: &Path, file: &str) -> Times {
     let (header, rows) = read_csv(out.join(file)).unwrap();
     let column = |name: &str| header.iter().position(|h| h == name).unwrap();
     let (step, time) = (column("step"), column("time_s"));
     rows.iter().map(|r| (r[step], r[time])).collect()
 }
 
-fn run(dir: &Path, backend: &str) -> (Vec<(f64, f64)>, Vec<(f64, f64)>) {
+/// Runs the config in `dir` on `backend`: the times of curve.csv and of profiles.csv.
+fn run(dir: &Path, backend: &str) -> (Times, Times) {
     let out = dir.join(backend);
     let result = Command::new(env!("CARGO_BIN_EXE_dustdem"))
         .args([
