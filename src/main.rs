@@ -31,8 +31,9 @@ use std::sync::Arc;
     about = "Molecular dynamics of porous dust agglomerates"
 )]
 struct Cli {
-    /// Show what the libraries behind the GPU probe print on stderr (the Vulkan loader,
-    /// drivers and layers); without it the probe is kept quiet (see GpuContext's notes).
+    /// Let the libraries behind the GPU probe (Vulkan loader, Mesa's layers, drivers) print
+    /// on stderr; otherwise the probe gets a private XDG_RUNTIME_DIR where none is usable,
+    /// which keeps their display-related messages away.
     #[arg(short, long, global = true)]
     verbose: bool,
     #[command(subcommand)]
