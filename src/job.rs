@@ -16,7 +16,7 @@ use crate::io::run_dir::{
     check_resumable, new_run_id, resolve_outputs, NewRunDir, RunDir, CONFIG_FILE,
     FAILED_CHECKPOINT_FILE, OUTPUTS_BESIDE_CHECKPOINT, PLOT_FILE, SUMMARY_FILE,
 };
-use crate::snapshots::write_snapshot;
+use crate::snapshots::{write_failed_snapshot, write_snapshot};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
@@ -490,11 +490,8 @@ fn keep_failed_state<E: Engine>(
             kept.push(checkpoint);
         }
     }
-    let choice = match config.output.snapshot_format {
-        crate::config::SnapshotChoice::None => crate::config::SnapshotChoice::Vtu,
-        c => c,
-    };
-    let snapshot = write_snapshot(out_dir, choice, &run.engine.state(), "_failed");
+    // A VTU whatever the run's snapshot format: it keeps NaN and inf as they are.
+    let snapshot = write_failed_snapshot(out_dir, &run.engine.state());
     if let Ok(files) = &snapshot {
         kept.extend(files.iter().cloned());
     }

@@ -9,7 +9,7 @@ use dustdem::config::{stable_time_step, Config, ExperimentKind};
 use dustdem::experiment::collision::analytic_sticking_speed;
 use dustdem::experiment::setup::build_sample;
 use dustdem::gpu::buffers::Sizes;
-use dustdem::gpu::context::{GpuContext, Requirements};
+use dustdem::gpu::context::{GpuContext, PrivateRuntimeDir, Requirements};
 use dustdem::io::csv::read_csv;
 use dustdem::job::{
     resume_job, run_job, Backend, JobOptions, JobSummary, Progress, DEFAULT_CONFIG,
@@ -31,6 +31,11 @@ use std::sync::Arc;
     about = "Molecular dynamics of porous dust agglomerates"
 )]
 struct Cli {
+    /// Let the libraries behind the GPU probe (Vulkan loader, Mesa's layers, drivers) print
+    /// on stderr; otherwise the probe gets a private XDG_RUNTIME_DIR where none is usable,
+    /// which keeps their display-related messages away.
+    #[arg(short, long, global = true)]
+    verbose: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -508,6 +513,15 @@ fn synth(
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // Only these look for a GPU (`--backend cpu` never does). Before any thread starts.
+    let probes = match &cli.command {
+        Command::Run { backend, .. } | Command::Resume { backend, .. } => *backend != Backend::Cpu,
+        Command::Info { .. } => true,
+        _ => false,
+    };
+    let _runtime_dir = (probes && !cli.verbose)
+        .then(PrivateRuntimeDir::ensure)
+        .flatten();
     let result = match cli.command {
         Command::Run {
             config,

@@ -3,8 +3,9 @@
 
 use crate::config::SnapshotChoice;
 use crate::cpu::CpuEngine;
+use crate::experiment::simulated_time;
 use crate::io::snapshot::{
-    write_lammps_dump, write_pvd, write_vtu, write_walls_vtp, Snapshot, WallPlane,
+    write_failed_vtu, write_lammps_dump, write_pvd, write_vtu, write_walls_vtp, Snapshot, WallPlane,
 };
 use std::io;
 use std::path::{Path, PathBuf};
@@ -46,45 +47,15 @@ pub fn write_snapshot(
     }
     let dir = out_dir.join(SNAPSHOT_DIR);
     std::fs::create_dir_all(&dir)?;
-    let m = &engine.monomers;
-    let n = m.len();
-    let positions: Vec<[f64; 3]> = m.position.iter().map(|p| arr(*p)).collect();
-    let velocities: Vec<[f64; 3]> = (0..n)
-        .map(|i| arr(engine.synchronized_velocity(i)))
-        .collect();
-    let spins: Vec<[f64; 3]> = (0..n)
-        .map(|i| arr(engine.synchronized_angular_velocity(i)))
-        .collect();
-    let contacts = engine.contacts.coordination();
-    let walls: Vec<WallPlane> = engine
-        .walls
-        .iter()
-        .map(|w| WallPlane {
-            name: w.name.replace(' ', "_"),
-            point: arr(w.point),
-            normal: arr(w.normal),
-        })
-        .collect();
-    let snapshot = Snapshot {
-        step: engine.step,
-        time: engine.time,
-        radius: engine.law.radius,
-        positions: &positions,
-        velocities: &velocities,
-        angular_velocities: &spins,
-        contacts: &contacts,
-        walls: &walls,
-    };
+    let owned = Owned::of(engine);
+    let snapshot = owned.snapshot(engine);
     let stem = format!("snap_{:010}{tag}", engine.step);
     let mut written = Vec::new();
     if matches!(choice, SnapshotChoice::Vtu | SnapshotChoice::Both) {
         let path = dir.join(format!("{stem}.vtu"));
         write_vtu(&path, &snapshot)?;
         written.push(path);
-        let (lo, hi) = bounds(engine);
-        let walls_path = dir.join(format!("walls_{:010}{tag}.vtp", engine.step));
-        write_walls_vtp(&walls_path, &walls, (lo, hi))?;
-        written.push(walls_path);
+        written.push(write_walls(&dir, engine, &owned.walls, tag)?);
     }
     if matches!(choice, SnapshotChoice::Lammps | SnapshotChoice::Both) {
         let path = dir.join(format!("{stem}.dump"));
@@ -98,27 +69,119 @@ pub fn write_snapshot(
     Ok(written)
 }
 
+/// Writes a state a run-time guard stopped as `snap_<step>_failed.vtu` and
+/// `walls_<step>_failed.vtp`, whatever the snapshot format of the run: non-finite values are
+/// kept as they are (in binary arrays, see [`write_failed_vtu`]) and a point array `finite`
+/// marks the monomers that hold one. The series files are left as they are.
+pub fn write_failed_snapshot(out_dir: &Path, engine: &CpuEngine) -> io::Result<Vec<PathBuf>> {
+    let dir = out_dir.join("snapshots");
+    std::fs::create_dir_all(&dir)?;
+    let owned = Owned::of(engine);
+    let path = dir.join(format!("snap_{:010}_failed.vtu", engine.step));
+    write_failed_vtu(&path, &owned.snapshot(engine))?;
+    let walls = write_walls(&dir, engine, &owned.walls, "_failed")?;
+    Ok(vec![path, walls])
+}
+
+/// The per-monomer arrays and walls of a snapshot, in the files' layout.
+struct Owned {
+    positions: Vec<[f64; 3]>,
+    velocities: Vec<[f64; 3]>,
+    spins: Vec<[f64; 3]>,
+    contacts: Vec<u32>,
+    walls: Vec<WallPlane>,
+}
+
+impl Owned {
+    fn of(engine: &CpuEngine) -> Owned {
+        let m = &engine.monomers;
+        let n = m.len();
+        Owned {
+            positions: m.position.iter().map(|p| arr(*p)).collect(),
+            velocities: (0..n)
+                .map(|i| arr(engine.synchronized_velocity(i)))
+                .collect(),
+            spins: (0..n)
+                .map(|i| arr(engine.synchronized_angular_velocity(i)))
+                .collect(),
+            contacts: engine.contacts.coordination(),
+            walls: engine
+                .walls
+                .iter()
+                .map(|w| WallPlane {
+                    name: w.name.replace(' ', "_"),
+                    point: arr(w.point),
+                    normal: arr(w.normal),
+                })
+                .collect(),
+        }
+    }
+
+    fn snapshot<'a>(&'a self, engine: &CpuEngine) -> Snapshot<'a> {
+        Snapshot {
+            step: engine.step,
+            time: simulated_time(engine.step, engine.dt),
+            radius: engine.law.radius,
+            positions: &self.positions,
+            velocities: &self.velocities,
+            angular_velocities: &self.spins,
+            contacts: &self.contacts,
+            walls: &self.walls,
+        }
+    }
+}
+
+/// `walls_<step><tag>.vtp`: the wall planes clipped to the monomers' bounding box.
+fn write_walls(
+    dir: &Path,
+    engine: &CpuEngine,
+    walls: &[WallPlane],
+    tag: &str,
+) -> io::Result<PathBuf> {
+    let path = dir.join(format!("walls_{:010}{tag}.vtp", engine.step));
+    write_walls_vtp(&path, walls, bounds(engine))?;
+    Ok(path)
+}
+
 /// Bounding box of monomers and wall points, padded by a diameter, for clipping wall planes.
+/// Non-finite positions (a failed state) are left out, and where the finite ones span more
+/// than the files can hold, the box is that of the wall points alone.
 fn bounds(engine: &CpuEngine) -> ([f64; 3], [f64; 3]) {
     let pad = glam::DVec3::splat(2.0 * engine.law.radius);
-    let mut lo = glam::DVec3::splat(f64::INFINITY);
-    let mut hi = glam::DVec3::splat(f64::NEG_INFINITY);
-    for p in engine
+    let wall_points = engine.walls.iter().map(|w| w.point);
+    let finite = engine
         .monomers
         .position
         .iter()
-        .chain(engine.walls.iter().map(|w| &w.point))
+        .copied()
+        .filter(|p| p.is_finite());
+    let fits =
+        |(lo, hi): &(glam::DVec3, glam::DVec3)| (*lo * 1e4).is_finite() && (*hi * 1e4).is_finite();
+    let all = extent(finite.chain(wall_points.clone()), pad);
+    match all
+        .filter(fits)
+        .or_else(|| extent(wall_points, pad).filter(fits))
     {
-        lo = lo.min(*p);
-        hi = hi.max(*p);
+        Some((lo, hi)) => (arr(lo), arr(hi)),
+        None => ([0.0; 3], [0.0; 3]),
     }
-    if !lo.is_finite() {
-        return ([0.0; 3], [0.0; 3]);
-    }
-    (arr(lo - pad), arr(hi + pad))
 }
 
-/// Lists `<prefix><step><suffix>` files (untagged) in step order, with time ≈ step·dt.
+/// The smallest box holding `points`, widened by `pad` on every side (`None` for no points).
+fn extent(
+    points: impl Iterator<Item = glam::DVec3>,
+    pad: glam::DVec3,
+) -> Option<(glam::DVec3, glam::DVec3)> {
+    let mut lo = glam::DVec3::splat(f64::INFINITY);
+    let mut hi = glam::DVec3::splat(f64::NEG_INFINITY);
+    for p in points {
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    lo.is_finite().then_some((lo - pad, hi + pad))
+}
+
+/// Lists `<prefix><step><suffix>` files (untagged) in step order, with their simulated time.
 fn write_collection(dir: &Path, prefix: &str, suffix: &str, name: &str, dt: f64) -> io::Result<()> {
     let mut entries: Vec<(u64, String)> = Vec::new();
     for entry in std::fs::read_dir(dir)? {
@@ -134,7 +197,7 @@ fn write_collection(dir: &Path, prefix: &str, suffix: &str, name: &str, dt: f64)
     entries.sort();
     let list: Vec<(f64, String)> = entries
         .into_iter()
-        .map(|(step, file)| (step as f64 * dt, file))
+        .map(|(step, file)| (simulated_time(step, dt), file))
         .collect();
     write_pvd(&dir.join(name), &list)
 }

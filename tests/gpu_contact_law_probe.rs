@@ -22,7 +22,7 @@ use common::SplitMix64;
 use dustdem::gpu::context::context_for_tests;
 use dustdem::gpu::layout::GpuDamping;
 use dustdem::gpu::shader::{self, FloatMode};
-use dustdem::material::{ContactConstants, Material, TwistingStiffness};
+use dustdem::material::{ContactConstants, Material, TwistingStiffness, WallTwisting};
 use dustdem::model::normal::{D_MIN, X_AT_ZERO_OVERLAP, X_MIN};
 use dustdem::model::{
     damping, normal, pointer, rolling, sliding, twisting, wall, ContactLaw, Damping, ModelOptions,
@@ -305,7 +305,8 @@ fn cases() -> Vec<Case> {
     let material = Material::silicate();
     let laws = [
         ContactLaw::new(&material, &ModelOptions::default()),
-        // The paper's calibrated modifiers, another k_t and viscoelastic damping.
+        // The paper's calibrated modifiers, another k_t (and the wall's own), viscoelastic
+        // damping.
         ContactLaw::new(
             &material,
             &ModelOptions {
@@ -313,6 +314,7 @@ fn cases() -> Vec<Case> {
                 sliding_modifier: 2.5,
                 twisting_modifier: 1.0,
                 twisting_stiffness: TwistingStiffness::ReducedShear,
+                wall_twisting: WallTwisting::WallContactRadius,
                 damping: Damping::Viscoelastic { t_vis: 5e-12 },
             },
         ),

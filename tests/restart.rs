@@ -1,13 +1,15 @@
 //! Checkpoints: an interrupted and resumed run is the run that was never interrupted, on the
 //! CPU reference and on the GPU engine (lavapipe in CI).
 
+mod common;
+
+use common::Scratch;
 use dustdem::config::Config;
 use dustdem::cpu::CpuEngine;
 use dustdem::experiment::compression::Compression;
 use dustdem::gpu::context::context_for_tests;
 use dustdem::gpu::engine::GpuEngine;
 use dustdem::io::binary::{Decoder, Encoder};
-use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -91,11 +93,8 @@ fn dustdem() -> Command {
     Command::new(env!("CARGO_BIN_EXE_dustdem"))
 }
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("dustdem-restart-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(name: &str) -> Scratch {
+    Scratch::new(&format!("restart-{name}"))
 }
 
 #[test]

@@ -11,6 +11,7 @@ pub mod reduce;
 pub mod state;
 pub mod walls;
 
+use crate::experiment::simulated_time;
 use crate::model::ContactLaw;
 use glam::DVec3;
 use neighbours::NeighbourList;
@@ -123,6 +124,7 @@ pub struct CpuEngine {
     pub wall_force: Vec<DVec3>,
     wall_damping: Vec<DVec3>,
     pub step: u64,
+    /// Simulated time [s], [`simulated_time`] of `step`.
     pub time: f64,
     /// Wall-clock seconds spent in each pass, in [`PASS_NAMES`] order.
     pub pass_seconds: [f64; 5],
@@ -312,7 +314,7 @@ impl CpuEngine {
         }
         self.tally.damping -= damping_work;
         self.step += 1;
-        self.time += dt;
+        self.time = simulated_time(self.step, dt);
         if self.step.is_multiple_of(64) {
             self.check_state()?;
         }

@@ -23,7 +23,12 @@ pub trait Engine {
     fn walls(&self) -> &[Wall];
     fn monomer_count(&self) -> usize;
     fn step_count(&self) -> u64;
-    fn time(&self) -> f64;
+    /// The time step [s].
+    fn dt(&self) -> f64;
+    /// Simulated time [s]: [`super::simulated_time`] of the step count; not overridden.
+    fn time(&self) -> f64 {
+        super::simulated_time(self.step_count(), self.dt())
+    }
     /// Advances `steps` steps and returns each wall's force on the monomers averaged over them.
     fn run_mean_wall_force(&mut self, steps: u64) -> Result<Vec<DVec3>, RunError>;
     fn positions(&self) -> Cow<'_, [DVec3]>;
@@ -48,8 +53,8 @@ impl Engine for CpuEngine {
     fn step_count(&self) -> u64 {
         self.step
     }
-    fn time(&self) -> f64 {
-        self.time
+    fn dt(&self) -> f64 {
+        self.dt
     }
     fn run_mean_wall_force(&mut self, steps: u64) -> Result<Vec<DVec3>, RunError> {
         let mut sum = vec![DVec3::ZERO; self.walls.len()];

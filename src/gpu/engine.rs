@@ -14,6 +14,7 @@ use super::shader::ShaderError;
 use crate::cpu::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
 use crate::cpu::{CpuEngine, EnergyReport, EngineError};
 use crate::experiment::compression::{Engine, RunError};
+use crate::experiment::simulated_time;
 use crate::model::ContactLaw;
 use glam::DVec3;
 use std::borrow::Cow;
@@ -58,23 +59,31 @@ impl fmt::Display for GpuError {
             GpuError::Engine(e) => write!(f, "{e}"),
             GpuError::BucketOverflow { monomer, capacity } => write!(
                 f,
-                "monomer {monomer} found its cell-table bucket full ({capacity} ids); monomers \
-                 overlap far beyond contact, or raise gpu::buffers::DEFAULT_BUCKET_CAPACITY"
+                "monomer {monomer} found its cell of the GPU's cell table full ({capacity} \
+                 monomers); {OVERLAP_ADVICE}"
             ),
             GpuError::NeighbourOverflow { monomer, capacity } => write!(
                 f,
                 "monomer {monomer} has more than {capacity} candidate partners within 2r + skin \
-                 (gpu::layout::NEIGHBOUR_CAPACITY); monomers overlap far beyond contact"
+                 on the GPU; {OVERLAP_ADVICE}"
             ),
             GpuError::DeviceLost(why) => write!(f, "the GPU failed: {why}"),
             GpuError::IncomingOverflow { monomer, capacity } => write!(
                 f,
                 "monomer {monomer} has more than {capacity} contacts with lower-index monomers \
-                 (gpu::layout::INCOMING_CAPACITY); monomers overlap far beyond contact"
+                 on the GPU; {OVERLAP_ADVICE}"
             ),
         }
     }
 }
+
+/// What the fixed per-monomer lists of the GPU engine that have no config key (cell-table
+/// buckets, candidate lists, incoming contacts) overflowing means, and what to change. Each
+/// holds more than equal spheres that do not overlap can ever need (at most 12 touch one), so
+/// only a state that has gone wrong fills one.
+const OVERLAP_ADVICE: &str = "monomers overlap far beyond contact, more than equal spheres \
+     ever need: lower [integration] dt_ns to within the stability limit (`dustdem info` prints \
+     it) or [experiment] wall_speed_m_s, or remove overlapping monomers from the [sample] file";
 
 impl std::error::Error for GpuError {}
 
@@ -132,6 +141,7 @@ pub struct GpuEngine {
     /// One per entry point, in kernels::ENTRY_POINTS order.
     bind_groups: Vec<wgpu::BindGroup>,
     pub step: u64,
+    /// Simulated time [s], [`simulated_time`] of `step`.
     pub time: f64,
     /// Steps per submission and between reads of the small block.
     pub readback_every: u64,
@@ -261,7 +271,7 @@ impl GpuEngine {
             state.walls.clone(),
         )?;
         engine.step = state.step;
-        engine.time = state.time;
+        engine.time = simulated_time(state.step, state.dt);
         engine.totals[..7].copy_from_slice(&state.tally.channels());
         engine.totals[7] = state.wall_work;
         engine.read_small()?;
@@ -551,7 +561,7 @@ impl GpuEngine {
             }
         }
         self.step += steps;
-        self.time += steps as f64 * self.dt;
+        self.time = simulated_time(self.step, self.dt);
         self.read_small()?;
         self.clear_wall_force_sum();
         Ok(())
@@ -940,8 +950,8 @@ impl Engine for GpuEngine {
     fn step_count(&self) -> u64 {
         self.step
     }
-    fn time(&self) -> f64 {
-        self.time
+    fn dt(&self) -> f64 {
+        self.dt
     }
     fn run_mean_wall_force(&mut self, steps: u64) -> Result<Vec<DVec3>, RunError> {
         Ok(GpuEngine::run_mean_wall_force(self, steps)?)

@@ -108,7 +108,24 @@ impl SnapshotFormat {
 /// Refuses (with `InvalidInput`, before touching the file system) slices of different
 /// lengths, non-finite values, a non-positive radius and unusable walls.
 pub fn write_vtu(path: &Path, s: &Snapshot) -> io::Result<()> {
-    validate_snapshot(s)?;
+    validate_snapshot(s, NonFinite::Refuse)?;
+    write_atomically(path, |w| vtu_body(w, s))
+}
+
+/// Writes a state that a run-time guard stopped (a blow-up) as [`write_vtu`] does, but keeps
+/// non-finite positions, velocities and angular velocities as they are instead of refusing
+/// them, so that the state can be inspected in ParaView.
+///
+/// VTK's ASCII readers do not parse `nan` or `inf` tokens reliably, so each array that holds a
+/// non-finite value is written as inline binary data (`format="binary"`: base64 of a UInt64
+/// byte count and the little-endian f64 values, the file declaring `header_type="UInt64"`),
+/// which ParaView reads bit for bit, NaN and ±inf included; the other arrays stay ASCII. An
+/// extra point array `finite` (UInt8) is 0 for the monomers holding a non-finite value
+/// (threshold on it to find them) and an XML comment says so.
+///
+/// Everything else is checked as by [`write_vtu`]: lengths, time, radius and walls.
+pub fn write_failed_vtu(path: &Path, s: &Snapshot) -> io::Result<()> {
+    validate_snapshot(s, NonFinite::Keep)?;
     write_atomically(path, |w| vtu_body(w, s))
 }
 
@@ -129,7 +146,7 @@ pub fn write_vtu(path: &Path, s: &Snapshot) -> io::Result<()> {
 /// the last line of the file. Readers that expect every header line at a fixed position
 /// cannot read these files, but they cannot read LAMMPS's own `ITEM: TIME` either.
 pub fn write_lammps_dump(path: &Path, s: &Snapshot) -> io::Result<()> {
-    validate_snapshot(s)?;
+    validate_snapshot(s, NonFinite::Refuse)?;
     write_atomically(path, |w| dump_body(w, s))
 }
 
@@ -223,10 +240,18 @@ fn invalid(msg: String) -> io::Error {
     io::Error::new(io::ErrorKind::InvalidInput, msg)
 }
 
+/// What validation does with non-finite monomer values.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum NonFinite {
+    Refuse,
+    /// The failed-state snapshot: kept, written in binary (see [`write_failed_vtu`]).
+    Keep,
+}
+
 /// Everything is checked before the temporary file is created, so that a refused snapshot
 /// leaves nothing behind and the error names the offending monomer rather than surfacing as
 /// an unreadable `NaN` in a viewer.
-fn validate_snapshot(s: &Snapshot) -> io::Result<()> {
+fn validate_snapshot(s: &Snapshot, non_finite: NonFinite) -> io::Result<()> {
     let n = s.positions.len();
     for (what, len) in [
         ("velocities", s.velocities.len()),
@@ -252,7 +277,7 @@ fn validate_snapshot(s: &Snapshot) -> io::Result<()> {
             s.step, s.radius
         )));
     }
-    for i in 0..n {
+    for i in (0..n).filter(|_| non_finite == NonFinite::Refuse) {
         let checks = [
             ("position", s.positions[i], CM_TO_UM),
             ("velocity", s.velocities[i], 1.0 / CM_PER_S_PER_M_PER_S),
@@ -428,12 +453,17 @@ fn unit(v: [f64; 3]) -> [f64; 3] {
     }
 }
 
-/// Writes a `DataArray` of vectors, one tuple per line.
+/// Writes a `DataArray` of vectors, one tuple per line; in binary if any value is not finite
+/// (only a failed-state snapshot has such values, see [`write_failed_vtu`]).
 fn vector_array<W: Write>(
     w: &mut W,
     name: &str,
     values: impl Iterator<Item = [f64; 3]>,
 ) -> io::Result<()> {
+    let values: Vec<[f64; 3]> = values.collect();
+    if !values.iter().flatten().all(|x| x.is_finite()) {
+        return binary_vector_array(w, name, &values);
+    }
     writeln!(
         w,
         r#"        <DataArray type="Float64" Name="{name}" NumberOfComponents="3" format="ascii">"#
@@ -442,6 +472,52 @@ fn vector_array<W: Write>(
         writeln!(w, "          {}", V3(v))?;
     }
     writeln!(w, "        </DataArray>")
+}
+
+/// A `DataArray` of vectors as VTK's inline binary data: base64 of the byte count (UInt64,
+/// the file's `header_type`) followed by the values, little-endian, in one base64 stream.
+fn binary_vector_array<W: Write>(w: &mut W, name: &str, values: &[[f64; 3]]) -> io::Result<()> {
+    let mut bytes = Vec::with_capacity(8 + 24 * values.len());
+    bytes.extend_from_slice(&(24 * values.len() as u64).to_le_bytes());
+    for x in values.iter().flatten() {
+        bytes.extend_from_slice(&x.to_le_bytes());
+    }
+    writeln!(
+        w,
+        r#"        <DataArray type="Float64" Name="{name}" NumberOfComponents="3" format="binary">"#
+    )?;
+    writeln!(w, "          {}", base64(&bytes))?;
+    writeln!(w, "        </DataArray>")
+}
+
+/// Standard base64 (RFC 4648, with padding), as VTK's XML readers decode it.
+fn base64(bytes: &[u8]) -> String {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for chunk in bytes.chunks(3) {
+        let b = [
+            chunk[0],
+            chunk.get(1).copied().unwrap_or(0),
+            chunk.get(2).copied().unwrap_or(0),
+        ];
+        let v = u32::from(b[0]) << 16 | u32::from(b[1]) << 8 | u32::from(b[2]);
+        for k in 0..4 {
+            if k <= chunk.len() {
+                out.push(ALPHABET[(v >> (18 - 6 * k) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
+/// Whether monomer `i` of `s` has only finite position, velocity and angular velocity.
+fn monomer_is_finite(s: &Snapshot, i: usize) -> bool {
+    [s.positions[i], s.velocities[i], s.angular_velocities[i]]
+        .iter()
+        .flatten()
+        .all(|x| x.is_finite())
 }
 
 /// Writes a single-component `DataArray`, a handful of values per line.
@@ -495,6 +571,17 @@ fn wall_comment<W: Write>(w: &mut W, walls: &[WallPlane], indent: &str) -> io::R
 fn vtu_body<W: Write>(w: &mut W, s: &Snapshot) -> io::Result<()> {
     let n = s.positions.len();
     let r_um = s.radius * CM_TO_UM;
+    // Only a failed-state snapshot gets this far with non-finite values (write_failed_vtu).
+    // The conversions to µm and m/s can overflow finite values too; those count as well.
+    let finite: Vec<bool> = (0..n)
+        .map(|i| {
+            monomer_is_finite(s, i)
+                && scale(s.positions[i], CM_TO_UM)
+                    .iter()
+                    .all(|x| x.is_finite())
+        })
+        .collect();
+    let all_finite = finite.iter().all(|&f| f);
     writeln!(w, r#"<?xml version="1.0"?>"#)?;
     writeln!(
         w,
@@ -512,10 +599,23 @@ fn vtu_body<W: Write>(w: &mut W, s: &Snapshot) -> io::Result<()> {
         "     id = monomer index + 1, the same id as in the LAMMPS dump"
     )?;
     wall_comment(w, s.walls, "     ")?;
+    if !all_finite {
+        writeln!(
+            w,
+            "     failed state: {} of {n} monomers hold a non-finite value (NaN or inf); arrays \
+             holding one are in binary, and point array finite = 0 marks those monomers",
+            finite.iter().filter(|&&f| !f).count()
+        )?;
+    }
     writeln!(w, "-->")?;
     writeln!(
         w,
-        r#"<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian">"#
+        r#"<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian"{}>"#,
+        if all_finite {
+            ""
+        } else {
+            r#" header_type="UInt64""#
+        }
     )?;
     writeln!(w, "  <UnstructuredGrid>")?;
 
@@ -568,6 +668,9 @@ fn vtu_body<W: Write>(w: &mut W, s: &Snapshot) -> io::Result<()> {
     vector_array(w, "angular_velocity", s.angular_velocities.iter().copied())?;
     scalar_array(w, "Float64", "radius", (0..n).map(|_| F(r_um)))?;
     scalar_array(w, "UInt32", "contacts", s.contacts.iter())?;
+    if !all_finite {
+        scalar_array(w, "UInt8", "finite", finite.iter().map(|&f| u8::from(f)))?;
+    }
     writeln!(w, "      </PointData>")?;
     writeln!(w, "      <Points>")?;
     vector_array(
