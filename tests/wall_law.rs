@@ -328,3 +328,34 @@ fn a_monomer_sliding_off_a_weak_side_wall_loses_exactly_the_tallied_energy() {
     assert!(rel.abs() < 1e-5);
     assert!(rel_head_on.abs() < 1e-5);
 }
+
+#[test]
+fn inelastic_wall_rolling_turns_the_pointer_back_in_its_own_plane() {
+    use dustdem::model::wall::wall_rolling_correction;
+    // A pointer tilted from −n_w towards +x by 0.1 rad (|ξ| = 2r sin(0.05) ≫ ξ_crit) goes back
+    // towards −n_w in the x–z plane until |ξ| = ξ_crit; the anchor moves with the contact
+    // centre by r Δn₁.
+    let normal = DVec3::Z;
+    let n1 = DVec3::new(0.1f64.sin(), 0.0, -0.1f64.cos());
+    let anchor = DVec3::new(1e-7, 2e-7, 0.0);
+    let (corrected, moved) =
+        wall_rolling_correction(n1, anchor, normal, RADIUS, printed::XI_CRIT).unwrap();
+    let xi = (corrected + normal) * RADIUS;
+    // sin θ from 1 − cos²θ with cos θ = 1 − (ξ_crit/r)²/2 = 1 − 5.6e-6 loses ~11 digits.
+    assert!((xi.length() / printed::XI_CRIT - 1.0).abs() < 1e-9);
+    assert!((corrected.length() - 1.0).abs() < 1e-15);
+    assert_eq!(corrected.y, 0.0, "stays in the plane of n₁ and n_w");
+    assert!(corrected.x > 0.0, "on the side it was tilted to");
+    let expected_anchor = anchor + (corrected - n1) * RADIUS;
+    assert!((moved - expected_anchor).length() < 1e-22);
+    // A pointer turned right round (n₁ = +n_w: no tangential direction to follow) still gets a
+    // unit pointer on the critical cone.
+    let (flipped, _) =
+        wall_rolling_correction(normal, anchor, normal, RADIUS, printed::XI_CRIT).unwrap();
+    assert!(flipped.is_finite());
+    let xi = (flipped + normal) * RADIUS;
+    assert!((xi.length() / printed::XI_CRIT - 1.0).abs() < 1e-9);
+    // Inside the limit nothing changes.
+    let small = DVec3::new(1e-4, 0.0, -1.0).normalize();
+    assert!(wall_rolling_correction(small, anchor, normal, RADIUS, printed::XI_CRIT).is_none());
+}
