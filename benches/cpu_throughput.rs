@@ -5,7 +5,7 @@
 //! Run: `cargo bench --bench cpu_throughput`
 
 use dustdem::config::Config;
-use dustdem::cpu::PASS_NAMES;
+use dustdem::backend::cpu::PASS_NAMES;
 use dustdem::experiment::compression::Compression;
 use std::time::Instant;
 

@@ -16,10 +16,10 @@
 
 use dustdem::config::Config;
 use dustdem::experiment::compression::Compression;
-use dustdem::gpu::context::{GpuContext, Requirements};
-use dustdem::gpu::engine::GpuEngine;
-use dustdem::gpu::kernels::ENTRY_POINTS;
-use dustdem::gpu::shader::FloatMode;
+use dustdem::backend::gpu::context::{GpuContext, Requirements};
+use dustdem::backend::gpu::engine::GpuEngine;
+use dustdem::backend::gpu::kernels::ENTRY_POINTS;
+use dustdem::backend::gpu::shader::FloatMode;
 use std::time::Instant;
 
 fn config(n: usize) -> Config {

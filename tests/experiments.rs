@@ -1,7 +1,7 @@
 //! Experiment setups on the CPU reference: unidirectional geometry and overflow detection.
 
 use dustdem::config::Config;
-use dustdem::cpu::EngineError;
+use dustdem::backend::cpu::EngineError;
 use dustdem::experiment::compression::{Compression, Event, RunError};
 use dustdem::experiment::measure::{filling_factor, projected_area};
 
@@ -54,8 +54,8 @@ fn contact_slot_overflow_is_an_error_naming_the_setting() {
 
 #[test]
 fn runaway_overlap_and_non_finite_state_are_caught() {
-    use dustdem::cpu::state::Monomers;
-    use dustdem::cpu::CpuEngine;
+    use dustdem::state::Monomers;
+    use dustdem::backend::cpu::CpuEngine;
     use glam::DVec3;
     let law = Config::default().contact_law();
     let r = law.radius;

@@ -6,7 +6,7 @@
 //! (seconds per parser; a failing input is saved next to the temp directory it names).
 
 use dustdem::config::Config;
-use dustdem::io::binary::fnv1a64;
+use dustdem::binary::fnv1a64;
 use dustdem::job::load_checkpoint;
 use dustdem::sample::Sample;
 use std::panic::{catch_unwind, AssertUnwindSafe};

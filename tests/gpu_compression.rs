@@ -12,11 +12,11 @@
 mod gpu_support;
 
 use dustdem::config::Config;
-use dustdem::cpu::CpuEngine;
+use dustdem::backend::cpu::CpuEngine;
 use dustdem::experiment::compression::{Compression, Engine, Event, Row};
-use dustdem::gpu::context::context_for_tests;
-use dustdem::gpu::engine::GpuEngine;
-use dustdem::gpu::shader::FloatMode;
+use dustdem::backend::gpu::context::context_for_tests;
+use dustdem::backend::gpu::engine::GpuEngine;
+use dustdem::backend::gpu::shader::FloatMode;
 use std::sync::OnceLock;
 
 fn rows<E: Engine>(mut run: Compression<E>) -> Vec<Row> {

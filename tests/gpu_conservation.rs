@@ -6,10 +6,10 @@ mod common;
 mod gpu_support;
 
 use common::*;
-use dustdem::cpu::state::Monomers;
-use dustdem::cpu::{DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
-use dustdem::gpu::context::context_for_tests;
-use dustdem::gpu::engine::GpuEngine;
+use dustdem::state::Monomers;
+use dustdem::backend::cpu::{DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
+use dustdem::backend::gpu::context::context_for_tests;
+use dustdem::backend::gpu::engine::GpuEngine;
 use dustdem::model::{ContactLaw, Damping};
 
 fn gpu_engine(law: ContactLaw, dt: f64, m: Monomers) -> Option<GpuEngine> {

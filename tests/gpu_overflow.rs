@@ -2,11 +2,11 @@
 //! slots, cell-table buckets and candidate lists (with the monomer, the limit and what to raise), and a lost device.
 
 use dustdem::config::Config;
-use dustdem::cpu::state::Monomers;
+use dustdem::state::Monomers;
 use dustdem::experiment::compression::{Compression, RunError};
-use dustdem::gpu::context::context_for_tests;
-use dustdem::gpu::engine::{GpuEngine, GpuError};
-use dustdem::gpu::layout::NEIGHBOUR_CAPACITY;
+use dustdem::backend::gpu::context::context_for_tests;
+use dustdem::backend::gpu::engine::{GpuEngine, GpuError};
+use dustdem::backend::gpu::layout::NEIGHBOUR_CAPACITY;
 use glam::DVec3;
 
 /// `count` points on a sphere of radius `radius` around the origin (Fibonacci lattice).

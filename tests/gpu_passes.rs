@@ -17,13 +17,14 @@ mod common;
 mod gpu_support;
 
 use common::*;
-use dustdem::cpu::neighbours::NeighbourList;
-use dustdem::cpu::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
-use dustdem::cpu::{contacts, forces, integrate, reduce, walls, CpuEngine};
-use dustdem::gpu::context::context_for_tests;
-use dustdem::gpu::engine::GpuEngine;
-use dustdem::gpu::kernels::Kernel;
-use dustdem::gpu::shader::FloatMode;
+use dustdem::backend::cpu::neighbours::NeighbourList;
+use dustdem::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
+use dustdem::backend::cpu::{contacts, forces, integrate, walls, CpuEngine};
+use dustdem::state::reduction as reduce;
+use dustdem::backend::gpu::context::context_for_tests;
+use dustdem::backend::gpu::engine::GpuEngine;
+use dustdem::backend::gpu::kernels::Kernel;
+use dustdem::backend::gpu::shader::FloatMode;
 use dustdem::model::{ContactLaw, Damping, WallFactors};
 use glam::{DQuat, DVec3};
 

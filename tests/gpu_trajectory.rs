@@ -10,11 +10,11 @@ mod common;
 mod gpu_support;
 
 use common::*;
-use dustdem::cpu::state::{Monomers, Wall};
-use dustdem::cpu::{CpuEngine, DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
-use dustdem::gpu::context::context_for_tests;
-use dustdem::gpu::engine::GpuEngine;
-use dustdem::gpu::shader::FloatMode;
+use dustdem::state::{Monomers, Wall};
+use dustdem::backend::cpu::{CpuEngine, DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
+use dustdem::backend::gpu::context::context_for_tests;
+use dustdem::backend::gpu::engine::GpuEngine;
+use dustdem::backend::gpu::shader::FloatMode;
 use dustdem::model::{ContactLaw, Damping, WallFactors};
 use glam::DVec3;
 

@@ -2,11 +2,11 @@
 //! CPU reference and on the GPU engine (lavapipe in CI).
 
 use dustdem::config::Config;
-use dustdem::cpu::CpuEngine;
+use dustdem::backend::cpu::CpuEngine;
 use dustdem::experiment::compression::Compression;
-use dustdem::gpu::context::context_for_tests;
-use dustdem::gpu::engine::GpuEngine;
-use dustdem::io::binary::{Decoder, Encoder};
+use dustdem::backend::gpu::context::context_for_tests;
+use dustdem::backend::gpu::engine::GpuEngine;
+use dustdem::binary::{Decoder, Encoder};
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};

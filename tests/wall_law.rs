@@ -7,9 +7,9 @@ mod common;
 
 use common::printed::{self, K_T, RADIUS};
 use common::*;
-use dustdem::cpu::state::{Monomers, Wall, WallContact};
-use dustdem::cpu::walls::wall_interaction;
-use dustdem::cpu::{CpuEngine, DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
+use dustdem::state::{Monomers, Wall, WallContact};
+use dustdem::backend::cpu::walls::wall_interaction;
+use dustdem::backend::cpu::{CpuEngine, DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
 use dustdem::material::WallTwisting;
 use dustdem::model::{ContactLaw, Damping, ModelOptions, WallFactors};
 use glam::{DQuat, DVec3};

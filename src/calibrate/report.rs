@@ -6,8 +6,8 @@ use super::attribution::Decision;
 use super::gap::{chi2_quantile_95, targets, CurveGap, Gap, Prediction};
 use super::raster::{draw_panel, Canvas, Mark, Panel, PanelSeries, BLACK, BLUE, RED};
 use super::workflow::{describe_decision, Calibration};
-use crate::io::atomic::write_atomic;
-use crate::io::plot::{Plot, Series, Style};
+use crate::output::atomic::write_atomic;
+use crate::output::plot::{Plot, Series, Style};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 

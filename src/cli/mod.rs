@@ -1,23 +1,23 @@
 //! The dustdem command line: parses arguments and calls the library.
 
 use clap::{Parser, Subcommand};
-use dustdem::analysis::fit::{fit_eq13, FitOptions};
-use dustdem::calibrate::measured::Geometry;
-use dustdem::calibrate::synth::{write_synth, SynthSpec};
-use dustdem::calibrate::{parse_effect, run_calibration, Settings};
-use dustdem::config::{stable_time_step, Config, ExperimentKind};
-use dustdem::experiment::collision::analytic_sticking_speed;
-use dustdem::experiment::setup::build_sample;
-use dustdem::gpu::buffers::Sizes;
-use dustdem::gpu::context::{GpuContext, Requirements};
-use dustdem::io::csv::read_csv;
-use dustdem::job::{
+use crate::analysis::fit::{fit_eq13, FitOptions};
+use crate::calibrate::measured::Geometry;
+use crate::calibrate::synth::{write_synth, SynthSpec};
+use crate::calibrate::{parse_effect, run_calibration, Settings};
+use crate::config::{stable_time_step, Config, ExperimentKind};
+use crate::experiment::collision::analytic_sticking_speed;
+use crate::experiment::setup::build_sample;
+use crate::backend::gpu::buffers::Sizes;
+use crate::backend::gpu::context::{GpuContext, Requirements};
+use crate::output::csv::read_csv;
+use crate::job::{
     resume_job, run_job, Backend, JobOptions, JobSummary, Progress, DEFAULT_CONFIG,
 };
-use dustdem::material::{
+use crate::material::{
     chokshi_sticking_velocity, normal_period, rolling_energy_quarter_turn, sliding_period, Derived,
 };
-use dustdem::sample::{interior_filling_factor, Footprint};
+use crate::sample::{interior_filling_factor, Footprint};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -506,7 +506,8 @@ fn synth(
     Ok(())
 }
 
-fn main() -> ExitCode {
+/// Parses the command line and runs the command; errors are printed, exit status 2.
+pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run {

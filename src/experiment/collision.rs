@@ -1,7 +1,7 @@
 //! Two monomers colliding head-on: the sticking experiment.
 
-use crate::cpu::state::Monomers;
-use crate::cpu::{CpuEngine, EngineError, DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
+use crate::state::Monomers;
+use crate::backend::cpu::{CpuEngine, EngineError, DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
 use crate::material::normal_period_of;
 use crate::model::normal::{jkr_potential, X_MIN};
 use crate::model::ContactLaw;

@@ -5,10 +5,10 @@
 use super::measure::{filling_factor, projected_area};
 use super::setup::{build_sample, build_walls, monomers_of, SetupError, TOP_WALL};
 use crate::config::{Config, ExperimentKind};
-use crate::cpu::state::Wall;
-use crate::cpu::{CpuEngine, EnergyReport, EngineError};
-use crate::gpu::engine::GpuError;
-use crate::io::binary::{DecodeError, Decoder, Encoder};
+use crate::state::Wall;
+use crate::backend::cpu::{CpuEngine, EnergyReport, EngineError};
+use crate::backend::gpu::engine::GpuError;
+use crate::binary::{DecodeError, Decoder, Encoder};
 use crate::model::ContactLaw;
 use crate::sample::{slab_profile, Footprint};
 use glam::DVec3;
@@ -306,7 +306,7 @@ impl<E: Engine> Compression<E> {
         build: impl FnOnce(
             ContactLaw,
             f64,
-            crate::cpu::state::Monomers,
+            crate::state::Monomers,
             Vec<Wall>,
             usize,
             usize,

@@ -1,7 +1,7 @@
 //! Builds the initial state of an experiment from a config: sample, monomers, walls.
 
 use crate::config::{Config, ExperimentKind, FootprintKind, SampleSource};
-use crate::cpu::state::{Monomers, Wall};
+use crate::state::{Monomers, Wall};
 use crate::model::ContactLaw;
 use crate::sample::{generate_rbd, side_for_cube, Footprint, RbdParams, Sample};
 use glam::DVec3;

@@ -5,24 +5,24 @@ use crate::analysis::fit::Eq13;
 use crate::config::{Config, ExperimentKind};
 use crate::experiment::collision::{analytic_sticking_speed, head_on_collision, Outcome};
 use crate::experiment::compression::{Compression, Engine, Event, Row, RunError, StopReason};
-use crate::gpu::context::{GpuContext, Requirements};
-use crate::gpu::engine::{GpuEngine, GpuError};
-use crate::io::atomic::write_atomic;
-use crate::io::binary::{Decoder, Encoder};
-use crate::io::checkpoint::{read_checkpoint, write_checkpoint};
-use crate::io::csv::{read_csv, CsvWriter};
-use crate::io::plot::{Plot, Series, Style};
-use crate::io::run_dir::{
+use crate::backend::gpu::context::{GpuContext, Requirements};
+use crate::backend::gpu::engine::{GpuEngine, GpuError};
+use crate::output::atomic::write_atomic;
+use crate::binary::{Decoder, Encoder};
+use crate::output::checkpoint::{read_checkpoint, write_checkpoint};
+use crate::output::csv::{read_csv, CsvWriter};
+use crate::output::plot::{Plot, Series, Style};
+use crate::output::run_dir::{
     check_resumable, new_run_id, resolve_outputs, NewRunDir, RunDir, CONFIG_FILE,
     FAILED_CHECKPOINT_FILE, OUTPUTS_BESIDE_CHECKPOINT, PLOT_FILE, SUMMARY_FILE,
 };
-use crate::snapshots::write_snapshot;
+use crate::output::snapshot::series::write_snapshot;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// The built-in default job: a small omnidirectional compression.
-pub const DEFAULT_CONFIG: &str = include_str!("../configs/omni_quick.toml");
+pub const DEFAULT_CONFIG: &str = include_str!("../../configs/omni_quick.toml");
 
 /// Measured reference curves of docs/physics.md, Sect. 5.8 (Eq. 13 parameters, pressures in Pa).
 pub const GUETTLER_2009_OMNI: Eq13 = Eq13 {
@@ -38,7 +38,7 @@ pub const BLUM_SCHRAEPLER_2004_UNI: Eq13 = Eq13 {
     delta: 0.33,
 };
 
-pub use crate::io::run_dir::{CHECKPOINT_FILE, CURVE_FILE, PROFILE_FILE};
+pub use crate::output::run_dir::{CHECKPOINT_FILE, CURVE_FILE, PROFILE_FILE};
 const PROFILE_HEADER: [&str; 5] = ["step", "time_s", "phi_mean", "z_um", "phi"];
 
 /// What a finished job produced.
@@ -292,7 +292,7 @@ pub struct LoadedCheckpoint {
 /// profiles.csv length and hash (u64 each), then the run's state.
 pub fn load_checkpoint(checkpoint: &Path) -> Result<LoadedCheckpoint, RunError> {
     let body = read_checkpoint(checkpoint).map_err(|e| RunError::Output(e.to_string()))?;
-    let bad = |e: crate::io::binary::DecodeError| {
+    let bad = |e: crate::binary::DecodeError| {
         RunError::Output(format!("checkpoint {}: {e}", checkpoint.display()))
     };
     let mut d = Decoder::new(&body);
@@ -480,7 +480,7 @@ fn keep_failed_state<E: Engine>(
     run: &Compression<E>,
     curve: &CsvWriter,
     profiles: &CsvWriter,
-    error: crate::cpu::EngineError,
+    error: crate::backend::cpu::EngineError,
 ) -> RunError {
     let mut kept = Vec::new();
     let checkpoint = out_dir.join(FAILED_CHECKPOINT_FILE);

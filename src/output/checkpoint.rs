@@ -11,7 +11,7 @@
 //! Written atomically (temporary file, fsync, rename), so a crash leaves the previous one.
 
 use super::atomic::write_atomic;
-use super::binary::fnv1a64;
+use crate::binary::fnv1a64;
 use std::fmt;
 use std::path::{Path, PathBuf};
 

@@ -2,7 +2,7 @@
 //! lines anywhere, numbers in shortest round-trip form so a file reads back
 //! bit for bit.
 
-use super::binary::Fnv1a;
+use crate::binary::Fnv1a;
 use std::fs::File;
 use std::io::{self, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
@@ -250,7 +250,7 @@ fn split_header(line: &str) -> Result<Vec<String>, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::io::binary::fnv1a64;
+    use crate::binary::fnv1a64;
     use std::fs;
 
     fn temp_path(name: &str) -> PathBuf {

@@ -1,6 +1,5 @@
 //! Output files: figures, tables, atomic writes.
 pub mod atomic;
-pub mod binary;
 pub mod checkpoint;
 pub mod csv;
 pub mod plot;

@@ -12,9 +12,9 @@
 //!   ([`RunDir::discard`]).
 
 use super::atomic::write_atomic;
-use super::binary::Fnv1a;
+use crate::binary::Fnv1a;
 use super::csv::check_prefix;
-use crate::snapshots::{is_snapshot_file, SNAPSHOT_DIR};
+use crate::output::snapshot::series::{is_snapshot_file, SNAPSHOT_DIR};
 use std::fs;
 use std::io;
 use std::path::{Component, Path, PathBuf};

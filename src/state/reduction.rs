@@ -5,8 +5,8 @@
 //! do the device's additions in the device's order, so a test can hold the block it reads back
 //! to the bits.
 
-use super::state::ContactTable;
-use crate::gpu::layout::{DIAG_THREADS, REDUCE_BLOCK, TALLY_STRIDE};
+use crate::state::ContactTable;
+use crate::backend::gpu::layout::{DIAG_THREADS, REDUCE_BLOCK, TALLY_STRIDE};
 use glam::DVec3;
 
 /// Total force of each of `wall_count` walls, from the force of every wall-contact slot

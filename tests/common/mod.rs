@@ -3,8 +3,8 @@
 
 pub mod printed;
 
-use dustdem::cpu::state::Monomers;
-use dustdem::cpu::{CpuEngine, DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
+use dustdem::state::Monomers;
+use dustdem::backend::cpu::{CpuEngine, DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
 use dustdem::material::Material;
 use dustdem::model::{ContactLaw, Damping, ModelOptions};
 use glam::DVec3;

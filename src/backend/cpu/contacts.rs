@@ -2,7 +2,7 @@
 //! keeping the history (pointers, twist, wall anchor) of every contact that persists.
 
 use super::forces::pair_step_energy;
-use super::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
+use crate::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
 use super::walls::wall_step_energy;
 use super::EngineError;
 use crate::model::normal::jkr_potential_at_overlap;

@@ -2,7 +2,7 @@
 //! the contact's tangential potential), then JKR, damping, rolling, sliding and twisting.
 
 use super::contacts::pair_contact_potential;
-use super::state::{ContactTable, Dissipation, Monomers, PairContact};
+use crate::state::{ContactTable, Dissipation, Monomers, PairContact};
 use crate::model::damping::damping_coefficient;
 use crate::model::normal::{jkr_contact_radius_ratio, jkr_force};
 use crate::model::{rolling, sliding, twisting, ContactLaw};

@@ -1,7 +1,7 @@
 //! Leap-frog pass: kick v(n−½) → v(n+½) with the forces at n, turn contact pointers and advance
 //! twist integrals with the mid-step angular velocities, drift positions and walls.
 
-use super::state::{ContactTable, Monomers, Wall};
+use crate::state::{ContactTable, Monomers, Wall};
 use crate::model::pointer::rotate_pointer;
 use crate::model::twisting::twist_increment;
 

@@ -7,14 +7,12 @@ pub mod contacts;
 pub mod forces;
 pub mod integrate;
 pub mod neighbours;
-pub mod reduce;
-pub mod state;
 pub mod walls;
 
 use crate::model::ContactLaw;
 use glam::DVec3;
+use crate::state::{ContactTable, Dissipation, Monomers, Wall};
 use neighbours::NeighbourList;
-use state::{ContactTable, Dissipation, Monomers, Wall};
 use std::fmt;
 
 /// Contact slots per monomer for partners of higher index (equal spheres touch at most 12).
@@ -151,7 +149,7 @@ impl CpuEngine {
             contacts: ContactTable::new(n, pair_slots, wall_slots),
             neighbours: NeighbourList::new(
                 2.0 * law.radius,
-                crate::cpu::neighbours::SKIN_RADII * law.radius,
+                crate::backend::cpu::neighbours::SKIN_RADII * law.radius,
             ),
             monomers,
             walls,
@@ -209,7 +207,7 @@ impl CpuEngine {
             dt,
             neighbours: NeighbourList::new(
                 2.0 * law.radius,
-                crate::cpu::neighbours::SKIN_RADII * law.radius,
+                crate::backend::cpu::neighbours::SKIN_RADII * law.radius,
             ),
             monomers,
             contacts,
@@ -456,9 +454,9 @@ mod codec {
     //! restored engine continues bit for bit. The neighbour list is not stored: it is rebuilt,
     //! and contact formation visits candidates in sorted order, so its timing does not matter.
 
-    use super::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
+    use crate::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
     use super::{CpuEngine, NeighbourList};
-    use crate::io::binary::{DecodeError, Decoder, Encoder};
+    use crate::binary::{DecodeError, Decoder, Encoder};
     use crate::material::ContactConstants;
     use crate::model::ContactLaw;
 
@@ -687,7 +685,7 @@ mod codec {
             }
             let mut neighbours = NeighbourList::new(
                 2.0 * law.radius,
-                crate::cpu::neighbours::SKIN_RADII * law.radius,
+                crate::backend::cpu::neighbours::SKIN_RADII * law.radius,
             );
             neighbours.refresh(&monomers.position);
             Ok(CpuEngine {

@@ -2,7 +2,7 @@
 //! rolling, sliding about the anchor and twisting; sums the force each wall exerts.
 
 use super::contacts::wall_contact_potential;
-use super::state::{ContactTable, Dissipation, Monomers, Wall, WallContact};
+use crate::state::{ContactTable, Dissipation, Monomers, Wall, WallContact};
 use crate::model::damping::damping_coefficient;
 use crate::model::normal::{jkr_contact_radius_ratio, jkr_force};
 use crate::model::{rolling, sliding, twisting, wall as wall_law, ContactLaw};

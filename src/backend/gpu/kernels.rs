@@ -200,7 +200,7 @@ impl Kernels {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gpu::buffers::BINDINGS;
+    use crate::backend::gpu::buffers::BINDINGS;
 
     /// The bindings of every entry point, from the shaders (no GPU needed).
     fn per_entry_point() -> Vec<(&'static str, Vec<u32>)> {
@@ -248,7 +248,7 @@ mod tests {
 
     #[test]
     fn workgroup_sizes_are_the_ones_the_dispatches_are_sized_for() {
-        use crate::gpu::layout::{DIAG_THREADS, MONOMER_GROUP, PAIR_GROUP, WORK_GROUP};
+        use crate::backend::gpu::layout::{DIAG_THREADS, MONOMER_GROUP, PAIR_GROUP, WORK_GROUP};
         let kernels = [
             Kernel::IntegrateKick,
             Kernel::IntegratePairs,

@@ -171,7 +171,7 @@ pub fn vec4(v: glam::DVec3) -> [f64; 4] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gpu::shader::{assemble, modules, ENGINE};
+    use crate::backend::gpu::shader::{assemble, modules, ENGINE};
 
     fn engine_module() -> naga::Module {
         let bindings = ENGINE.iter().find(|m| m.name() == "bindings").unwrap();

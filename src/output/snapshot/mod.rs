@@ -18,6 +18,8 @@
 //! a viewer polling the output directory, or a run killed mid-write, never leaves a
 //! truncated snapshot behind under the real name.
 
+pub mod series;
+
 use std::ffi::OsString;
 use std::fmt;
 use std::fs::{self, File, OpenOptions};

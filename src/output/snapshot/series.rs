@@ -2,8 +2,8 @@
 //! written into `<out>/snapshots/`.
 
 use crate::config::SnapshotChoice;
-use crate::cpu::CpuEngine;
-use crate::io::snapshot::{
+use crate::backend::cpu::CpuEngine;
+use super::{
     write_lammps_dump, write_pvd, write_vtu, write_walls_vtp, Snapshot, WallPlane,
 };
 use std::io;

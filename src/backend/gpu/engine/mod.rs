@@ -11,8 +11,8 @@ use super::context::{ContextError, GpuContext};
 use super::kernels::{Kernel, Kernels};
 use super::layout::{self, vec4, GpuConstants, GpuDamping, GpuParams, GpuWall};
 use super::shader::ShaderError;
-use crate::cpu::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
-use crate::cpu::{CpuEngine, EnergyReport, EngineError};
+use crate::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
+use crate::backend::cpu::{CpuEngine, EnergyReport, EngineError};
 use crate::experiment::compression::{Engine, RunError};
 use crate::model::ContactLaw;
 use glam::DVec3;
@@ -289,7 +289,7 @@ impl GpuEngine {
             radius: law.radius,
             inverse_mass: 1.0 / law.mass,
             inverse_inertia: 1.0 / law.moment_of_inertia,
-            cell: (2.0 + crate::cpu::neighbours::SKIN_RADII) * law.radius,
+            cell: (2.0 + crate::backend::cpu::neighbours::SKIN_RADII) * law.radius,
             e_star: law.e_star,
             poisson: law.poisson,
             damping_value: damping.value,
@@ -341,7 +341,7 @@ impl GpuEngine {
             let (mut p, mut q) = (0.0, 0.0);
             for c in table.walls_of(i) {
                 let w = &self.walls[c.wall as usize];
-                let (f, fd, _) = crate::cpu::walls::wall_interaction(
+                let (f, fd, _) = crate::backend::cpu::walls::wall_interaction(
                     &self.law,
                     m.position[i],
                     m.velocity[i],

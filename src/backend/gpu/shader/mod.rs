@@ -71,21 +71,21 @@ macro_rules! wgsl {
     ($path:literal) => {
         Source {
             path: concat!("shaders/", $path),
-            text: include_str!(concat!("../../shaders/", $path)),
+            text: include_str!(concat!("../../../../shaders/", $path)),
         }
     };
 }
 
 /// The import-only modules. A test checks this list against `shaders/shared/`.
 pub const SHARED: &[Source] = &[
-    wgsl!("shared/math.wgsl"),
-    wgsl!("shared/normal.wgsl"),
-    wgsl!("shared/damping.wgsl"),
-    wgsl!("shared/pointer.wgsl"),
-    wgsl!("shared/rolling.wgsl"),
-    wgsl!("shared/sliding.wgsl"),
-    wgsl!("shared/twisting.wgsl"),
-    wgsl!("shared/wall.wgsl"),
+    wgsl!("model/math.wgsl"),
+    wgsl!("model/normal.wgsl"),
+    wgsl!("model/damping.wgsl"),
+    wgsl!("model/pointer.wgsl"),
+    wgsl!("model/rolling.wgsl"),
+    wgsl!("model/sliding.wgsl"),
+    wgsl!("model/twisting.wgsl"),
+    wgsl!("model/wall.wgsl"),
 ];
 
 /// Engine modules: import-only like the shared ones, but they may declare the engine's bindings
@@ -101,13 +101,13 @@ pub const ENGINE: &[Source] = &[
 
 /// Passes: files with entry points. A test checks this list against `shaders/`.
 pub const PASSES: &[Source] = &[
-    wgsl!("contact_law_probe.wgsl"),
-    wgsl!("integrate.wgsl"),
-    wgsl!("neighbours.wgsl"),
-    wgsl!("contacts.wgsl"),
-    wgsl!("forces.wgsl"),
-    wgsl!("walls.wgsl"),
-    wgsl!("reduce.wgsl"),
+    wgsl!("probes/contact_law_probe.wgsl"),
+    wgsl!("passes/integrate.wgsl"),
+    wgsl!("passes/neighbours.wgsl"),
+    wgsl!("passes/contacts.wgsl"),
+    wgsl!("passes/forces.wgsl"),
+    wgsl!("passes/walls.wgsl"),
+    wgsl!("passes/reduce.wgsl"),
 ];
 
 /// Every module a `// requires:` line may name: the shared ones, then the engine's.
@@ -484,9 +484,12 @@ mod tests {
         let shared: BTreeSet<String> = SHARED.iter().map(|s| s.path.to_string()).collect();
         let passes: BTreeSet<String> = PASSES.iter().map(|s| s.path.to_string()).collect();
         let engine: BTreeSet<String> = ENGINE.iter().map(|s| s.path.to_string()).collect();
-        assert_eq!(shared, wgsl_files("shaders/shared"));
+        assert_eq!(shared, wgsl_files("shaders/model"));
         assert_eq!(engine, wgsl_files("shaders/engine"));
-        assert_eq!(passes, wgsl_files("shaders"));
+        let mut on_disk = wgsl_files("shaders/passes");
+        on_disk.extend(wgsl_files("shaders/probes"));
+        assert_eq!(passes, on_disk);
+        assert!(wgsl_files("shaders").is_empty(), "WGSL files directly in shaders/");
     }
 
     #[test]

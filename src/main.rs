@@ -1,0 +1,5 @@
+//! The dustdem executable: everything is in the library's `cli` module.
+
+fn main() -> std::process::ExitCode {
+    dustdem::cli::main()
+}
