@@ -22,7 +22,7 @@ use common::SplitMix64;
 use dustdem::backend::gpu::context::context_for_tests;
 use dustdem::backend::gpu::layout::GpuDamping;
 use dustdem::backend::gpu::shader::{self, FloatMode};
-use dustdem::material::{ContactConstants, Material, TwistingStiffness};
+use dustdem::material::{ContactConstants, Material, TwistingStiffness, WallTwisting};
 use dustdem::model::normal::{D_MIN, X_AT_ZERO_OVERLAP, X_MIN};
 use dustdem::model::{
     damping, normal, pointer, rolling, sliding, twisting, wall, ContactLaw, Damping, ModelOptions,
@@ -313,6 +313,7 @@ fn cases() -> Vec<Case> {
                 sliding_modifier: 2.5,
                 twisting_modifier: 1.0,
                 twisting_stiffness: TwistingStiffness::ReducedShear,
+                wall_twisting: WallTwisting::Pair,
                 damping: Damping::Viscoelastic { t_vis: 5e-12 },
             },
         ),
