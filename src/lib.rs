@@ -10,6 +10,7 @@ pub mod binary;
 pub mod calibrate;
 pub mod cli;
 pub mod config;
+pub mod engine;
 pub mod experiment;
 pub mod job;
 pub mod material;

@@ -5,8 +5,8 @@
 //! `DUSTDEM_FUZZ_SECONDS=600 cargo test --release --test fuzz_parsers -- --nocapture`
 //! (seconds per parser; a failing input is saved next to the temp directory it names).
 
-use dustdem::config::Config;
 use dustdem::binary::fnv1a64;
+use dustdem::config::Config;
 use dustdem::job::load_checkpoint;
 use dustdem::sample::Sample;
 use std::panic::{catch_unwind, AssertUnwindSafe};

@@ -1,12 +1,12 @@
 //! Device failures are detected and reported, never dropped or panicked on: overflows of contact
 //! slots, cell-table buckets and candidate lists (with the monomer, the limit and what to raise), and a lost device.
 
-use dustdem::config::Config;
-use dustdem::state::Monomers;
-use dustdem::experiment::compression::{Compression, RunError};
 use dustdem::backend::gpu::context::context_for_tests;
 use dustdem::backend::gpu::engine::{GpuEngine, GpuError};
 use dustdem::backend::gpu::layout::NEIGHBOUR_CAPACITY;
+use dustdem::config::Config;
+use dustdem::experiment::compression::{Compression, RunError};
+use dustdem::state::Monomers;
 use glam::DVec3;
 
 /// `count` points on a sphere of radius `radius` around the origin (Fibonacci lattice).

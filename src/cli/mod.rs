@@ -1,23 +1,21 @@
 //! The dustdem command line: parses arguments and calls the library.
 
-use clap::{Parser, Subcommand};
 use crate::analysis::fit::{fit_eq13, FitOptions};
+use crate::backend::gpu::buffers::Sizes;
+use crate::backend::gpu::context::{GpuContext, Requirements};
 use crate::calibrate::measured::Geometry;
 use crate::calibrate::synth::{write_synth, SynthSpec};
 use crate::calibrate::{parse_effect, run_calibration, Settings};
 use crate::config::{stable_time_step, Config, ExperimentKind};
 use crate::experiment::collision::analytic_sticking_speed;
 use crate::experiment::setup::build_sample;
-use crate::backend::gpu::buffers::Sizes;
-use crate::backend::gpu::context::{GpuContext, Requirements};
-use crate::output::csv::read_csv;
-use crate::job::{
-    resume_job, run_job, Backend, JobOptions, JobSummary, Progress, DEFAULT_CONFIG,
-};
+use crate::job::{resume_job, run_job, Backend, JobOptions, JobSummary, Progress, DEFAULT_CONFIG};
 use crate::material::{
     chokshi_sticking_velocity, normal_period, rolling_energy_quarter_turn, sliding_period, Derived,
 };
+use crate::output::csv::read_csv;
 use crate::sample::{interior_filling_factor, Footprint};
+use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;

@@ -191,8 +191,8 @@ impl Default for IntegrationConfig {
         IntegrationConfig {
             dt_ns: 0.3,
             allow_unstable_dt: false,
-            pair_slots: crate::backend::cpu::DEFAULT_PAIR_SLOTS,
-            wall_slots: crate::backend::cpu::DEFAULT_WALL_SLOTS,
+            pair_slots: crate::state::DEFAULT_PAIR_SLOTS,
+            wall_slots: crate::state::DEFAULT_WALL_SLOTS,
         }
     }
 }

@@ -2,13 +2,16 @@
 //! profiles, checkpoints, the effective config and a plot into the output directory.
 
 use crate::analysis::fit::Eq13;
-use crate::config::{Config, ExperimentKind};
-use crate::experiment::collision::{analytic_sticking_speed, head_on_collision, Outcome};
-use crate::experiment::compression::{Compression, Engine, Event, Row, RunError, StopReason};
+use crate::backend::cpu::CpuEngine;
 use crate::backend::gpu::context::{GpuContext, Requirements};
 use crate::backend::gpu::engine::{GpuEngine, GpuError};
-use crate::output::atomic::write_atomic;
 use crate::binary::{Decoder, Encoder};
+use crate::config::{Config, ExperimentKind};
+use crate::engine::{Engine, EngineError};
+use crate::experiment::collision::{analytic_sticking_speed, head_on_collision, Outcome};
+use crate::experiment::compression::{Compression, Event, Row, RunError, StopReason};
+use crate::model::ContactLaw;
+use crate::output::atomic::write_atomic;
 use crate::output::checkpoint::{read_checkpoint, write_checkpoint};
 use crate::output::csv::{read_csv, CsvWriter};
 use crate::output::plot::{Plot, Series, Style};
@@ -17,6 +20,7 @@ use crate::output::run_dir::{
     FAILED_CHECKPOINT_FILE, OUTPUTS_BESIDE_CHECKPOINT, PLOT_FILE, SUMMARY_FILE,
 };
 use crate::output::snapshot::series::write_snapshot;
+use crate::state::{Monomers, State, Wall};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
@@ -82,6 +86,20 @@ impl std::str::FromStr for Backend {
     }
 }
 
+/// The f64 CPU reference engine, built from an initial state as every engine is (the `build`
+/// argument of the experiments). Collisions and calibrations run on it: it is deterministic on
+/// every machine, and a GPU would not speed up two monomers or a few hundred.
+pub fn reference_engine(
+    law: ContactLaw,
+    dt: f64,
+    monomers: Monomers,
+    walls: Vec<Wall>,
+    pair_slots: usize,
+    wall_slots: usize,
+) -> Result<CpuEngine, EngineError> {
+    CpuEngine::new(law, dt, monomers, walls, pair_slots, wall_slots)
+}
+
 /// How a job reports, where it runs and when it stops early.
 pub struct JobOptions<'a> {
     pub progress: &'a mut dyn FnMut(&Progress),
@@ -115,7 +133,7 @@ pub fn run_job(
                 config,
                 fresh,
                 &effective,
-                Compression::new(config)?,
+                Compression::with_engine(config, reference_engine)?,
                 options,
             ),
             Some(ctx) => {
@@ -150,7 +168,10 @@ fn create_run_dir<T>(
 fn choose_backend(options: &mut JobOptions) -> Result<Option<GpuContext>, RunError> {
     let context = match options.backend {
         Backend::Cpu => None,
-        Backend::Gpu => Some(GpuContext::new(&Requirements::default()).map_err(GpuError::from)?),
+        Backend::Gpu => Some(
+            GpuContext::new(&Requirements::default())
+                .map_err(|e| EngineError::from(GpuError::from(e)))?,
+        ),
         Backend::Auto => match GpuContext::new(&Requirements::default()) {
             Ok(ctx) if ctx.summary().device_type == wgpu::DeviceType::Cpu => {
                 (options.notice)(&format!(
@@ -223,23 +244,23 @@ pub fn resume_job(checkpoint: &Path, options: &mut JobOptions) -> Result<JobSumm
     )
     .map_err(RunError::Output)?;
     match choose_backend(options)? {
-        None => continue_job(loaded, loaded_run_cpu, options),
+        None => continue_job(
+            loaded,
+            |run| run.map_engine(|state| Ok(CpuEngine::from_state(state))),
+            options,
+        ),
         Some(ctx) => continue_job(
             loaded,
-            |run| run.map_engine(|cpu| Ok(GpuEngine::resume(ctx, &cpu)?)),
+            |run| run.map_engine(|state| Ok(GpuEngine::resume(ctx, &state)?)),
             options,
         ),
     }
 }
 
-fn loaded_run_cpu(run: Compression) -> Result<Compression, RunError> {
-    Ok(run)
-}
-
 /// Reopens a checkpoint's outputs and drives its run on the engine `engine` makes of it.
 fn continue_job<E: Engine>(
     loaded: LoadedCheckpoint,
-    engine: impl FnOnce(Compression) -> Result<Compression<E>, RunError>,
+    engine: impl FnOnce(Compression<State>) -> Result<Compression<E>, RunError>,
     options: &mut JobOptions,
 ) -> Result<JobSummary, RunError> {
     let run = engine(loaded.run)?;
@@ -282,7 +303,8 @@ pub struct LoadedCheckpoint {
     pub curve_hash: u64,
     pub profile_len: u64,
     pub profile_hash: u64,
-    pub run: Compression,
+    /// The run as stored, on no engine yet.
+    pub run: Compression<State>,
 }
 
 /// Reads and checks a checkpoint file completely (header, checksum, config, state).
@@ -444,12 +466,12 @@ fn drive<E: Engine>(
     });
     let stop = match stop {
         Ok(stop) => stop,
-        Err(RunError::Engine(error)) => {
+        Err(RunError::Engine(error)) if error.is_guard() => {
             return Err(keep_failed_state(
                 config, out_dir, run_id, &run, &curve, &profiles, error,
             ))
         }
-        Err(RunError::Gpu(GpuError::DeviceLost(why))) => {
+        Err(RunError::Engine(EngineError::DeviceLost(why))) => {
             // Nothing on the device can be read: the last checkpoint is what survives.
             let last = out_dir.join(CHECKPOINT_FILE);
             let resume = if last.exists() {
@@ -480,7 +502,7 @@ fn keep_failed_state<E: Engine>(
     run: &Compression<E>,
     curve: &CsvWriter,
     profiles: &CsvWriter,
-    error: crate::backend::cpu::EngineError,
+    error: EngineError,
 ) -> RunError {
     let mut kept = Vec::new();
     let checkpoint = out_dir.join(FAILED_CHECKPOINT_FILE);
@@ -564,7 +586,7 @@ fn run_collision(
 ) -> Result<JobSummary, RunError> {
     let law = config.contact_law();
     let speed = config.experiment.collision_speed_m_s * 100.0;
-    let result = head_on_collision(&law, speed, config.dt(), 5.0)?;
+    let result = head_on_collision(&law, speed, config.dt(), 5.0, reference_engine)?;
     let outcome = match result.outcome {
         Outcome::Stuck => "stuck".to_string(),
         Outcome::Separated { rebound_speed } => {

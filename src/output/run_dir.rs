@@ -12,8 +12,8 @@
 //!   ([`RunDir::discard`]).
 
 use super::atomic::write_atomic;
-use crate::binary::Fnv1a;
 use super::csv::check_prefix;
+use crate::binary::Fnv1a;
 use crate::output::snapshot::series::{is_snapshot_file, SNAPSHOT_DIR};
 use std::fs;
 use std::io;

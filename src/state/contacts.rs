@@ -1,48 +1,12 @@
-//! Engine state shared by the CPU passes: monomers, contact history, walls, energy tally.
+//! The contact history: one record per pair or wall contact, in fixed per-monomer slots (the
+//! contact table), as both backends store it.
 
-use crate::material::ContactConstants;
 use glam::DVec3;
 
-/// Per-monomer arrays. `velocity` and `angular_velocity` are half-step values v(n−½) in the
-/// leap-frog sense; `force` and `torque` act at the current positions (time n).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Monomers {
-    pub position: Vec<DVec3>,
-    pub velocity: Vec<DVec3>,
-    pub angular_velocity: Vec<DVec3>,
-    pub force: Vec<DVec3>,
-    pub torque: Vec<DVec3>,
-    /// The damping part of `force`, kept to book its work exactly (trapezoid rule).
-    pub damping_force: Vec<DVec3>,
-    /// 1 for a free monomer, 0 for one held (or driven) in translation.
-    pub inverse_mass_scale: Vec<f64>,
-    /// 1 for a free monomer, 0 for one whose rotation is held (or driven).
-    pub inverse_inertia_scale: Vec<f64>,
-}
-
-impl Monomers {
-    pub fn new(positions: Vec<DVec3>) -> Self {
-        let n = positions.len();
-        Monomers {
-            position: positions,
-            velocity: vec![DVec3::ZERO; n],
-            angular_velocity: vec![DVec3::ZERO; n],
-            force: vec![DVec3::ZERO; n],
-            torque: vec![DVec3::ZERO; n],
-            damping_force: vec![DVec3::ZERO; n],
-            inverse_mass_scale: vec![1.0; n],
-            inverse_inertia_scale: vec![1.0; n],
-        }
-    }
-
-    pub fn len(&self) -> usize {
-        self.position.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.position.is_empty()
-    }
-}
+/// Contact slots per monomer for partners of higher index (equal spheres touch at most 12).
+pub const DEFAULT_PAIR_SLOTS: usize = 12;
+/// Wall contact slots per monomer (a box corner touches 3 walls).
+pub const DEFAULT_WALL_SLOTS: usize = 3;
 
 /// History of one monomer–monomer contact, stored with its lower-index monomer (the owner).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -138,72 +102,5 @@ impl ContactTable {
             }
         }
         count
-    }
-}
-
-/// A planar wall moving at constant velocity. `normal` points into the domain.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Wall {
-    pub name: String,
-    pub point: DVec3,
-    pub normal: DVec3,
-    pub velocity: DVec3,
-    /// Contact constants with this wall's strength factors applied.
-    pub constants: ContactConstants,
-}
-
-/// Energy removed from the monomers' mechanical energy, per channel [erg].
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Dissipation {
-    /// Potential left in monomer–monomer contacts when they break.
-    pub breaking: f64,
-    /// Minus the potential a contact has when it is found (formed slightly past δ = 0).
-    pub forming: f64,
-    /// Normal damping, monomer–monomer and monomer–wall.
-    pub damping: f64,
-    pub rolling: f64,
-    pub sliding: f64,
-    pub twisting: f64,
-    /// Inelastic rolling, sliding, twisting, forming and breaking of wall contacts.
-    pub walls: f64,
-}
-
-impl Dissipation {
-    /// The channels in a fixed order (checkpoints, the GPU tally): breaking, forming, damping,
-    /// rolling, sliding, twisting, walls.
-    pub fn channels(&self) -> [f64; 7] {
-        [
-            self.breaking,
-            self.forming,
-            self.damping,
-            self.rolling,
-            self.sliding,
-            self.twisting,
-            self.walls,
-        ]
-    }
-
-    /// The inverse of [`Dissipation::channels`].
-    pub fn from_channels(c: [f64; 7]) -> Self {
-        let [breaking, forming, damping, rolling, sliding, twisting, walls] = c;
-        Dissipation {
-            breaking,
-            forming,
-            damping,
-            rolling,
-            sliding,
-            twisting,
-            walls,
-        }
-    }
-
-    pub fn total(&self) -> f64 {
-        self.breaking
-            + self.forming
-            + self.damping
-            + self.rolling
-            + self.sliding
-            + self.twisting
-            + self.walls
     }
 }

@@ -1,13 +1,23 @@
-//! Twin of shaders/reduce.wgsl: the fixed-order sums behind the GPU's diagnostics block.
+//! The fixed order in which both backends sum over monomers where the sum leaves the monomer
+//! loop: the per-wall force sums and the diagnostics block (tally channels and contact counts).
 //!
-//! The CPU engine adds wall forces and tallies as it goes (one thread, monomer order); the
-//! device cannot (no float atomics), so it sums per block and then over blocks. These functions
-//! do the device's additions in the device's order, so a test can hold the block it reads back
-//! to the bits.
+//! The CPU engine adds wall forces and tallies as it goes (one thread, monomer order); a device
+//! cannot (no float atomics), so it sums per block and then over blocks. These functions do the
+//! device's additions in the device's order (the twins of `reduce_walls` in
+//! shaders/passes/walls.wgsl and `reduce_diagnostics` in shaders/passes/reduce.wgsl), so a test
+//! can hold the block a device reads back to the bits. The block sizes are numbers of this
+//! order, not of one backend: the GPU's WGSL declares the same values (a test compares them).
 
-use crate::state::ContactTable;
-use crate::backend::gpu::layout::{DIAG_THREADS, REDUCE_BLOCK, TALLY_STRIDE};
+use super::ContactTable;
 use glam::DVec3;
+
+/// Consecutive monomers whose wall-contact forces one partial sum holds.
+pub const REDUCE_BLOCK: usize = 64;
+/// Partial sums of the diagnostics reduction (one workgroup's invocations on a device).
+pub const DIAG_THREADS: usize = 64;
+/// Numbers per monomer in the per-monomer tally: the seven dissipation channels in
+/// [`super::Dissipation::channels`] order, then the wall work.
+pub const TALLY_STRIDE: usize = 8;
 
 /// Total force of each of `wall_count` walls, from the force of every wall-contact slot
 /// (`slot_force[i * wall_slots + s]`): sums over blocks of [`REDUCE_BLOCK`] consecutive

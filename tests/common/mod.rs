@@ -3,10 +3,11 @@
 
 pub mod printed;
 
-use dustdem::state::Monomers;
-use dustdem::backend::cpu::{CpuEngine, DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
+use dustdem::backend::cpu::CpuEngine;
 use dustdem::material::Material;
 use dustdem::model::{ContactLaw, Damping, ModelOptions};
+use dustdem::state::Monomers;
+use dustdem::state::{DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
 use glam::DVec3;
 
 pub fn law_with(damping: Damping) -> ContactLaw {

@@ -1,43 +1,13 @@
 //! Contact maintenance pass: breaks stretched contacts (δ < −δ_c) and forms new ones (δ ≥ 0),
 //! keeping the history (pointers, twist, wall anchor) of every contact that persists.
 
-use super::forces::pair_step_energy;
+use crate::engine::EngineError;
+use crate::model::{wall as wall_law, ContactLaw};
+use crate::state::interaction::{pair_step_energy, wall_step_energy};
 use crate::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
-use super::walls::wall_step_energy;
-use super::EngineError;
-use crate::model::normal::jkr_potential_at_overlap;
-use crate::model::{rolling, sliding, twisting, wall as wall_law, ContactLaw};
-use glam::DVec3;
-
-/// Potential energy held by a monomer–monomer contact (normal + tangential) [erg].
-pub fn pair_contact_potential(law: &ContactLaw, x1: DVec3, x2: DVec3, c: &PairContact) -> f64 {
-    let k = &law.pair;
-    let d = x1 - x2;
-    let distance = d.length();
-    let nc = d / distance;
-    let delta = 2.0 * law.radius - distance;
-    let xi = rolling::rolling_displacement(c.n1, c.n2, k.reduced_radius);
-    let zeta = sliding::sliding_displacement(c.n1, c.n2, nc, law.radius, law.radius);
-    jkr_potential_at_overlap(delta / k.delta0, k.f_c, k.delta0)
-        + rolling::rolling_potential(xi, k.k_r)
-        + sliding::sliding_potential(zeta, k.k_s)
-        + twisting::twisting_potential(c.twist, k.k_t)
-}
-
-/// Potential energy held by a monomer–wall contact [erg].
-pub fn wall_contact_potential(radius: f64, x: DVec3, wall: &Wall, c: &WallContact) -> f64 {
-    let k = &wall.constants;
-    let delta = wall_law::wall_overlap(x, wall.point, wall.normal, radius);
-    let xi = wall_law::wall_rolling_displacement(c.n1, wall.normal, radius);
-    let zeta = wall_law::wall_sliding_displacement(x, c.n1, radius, c.anchor, wall.normal);
-    jkr_potential_at_overlap(delta / k.delta0, k.f_c, k.delta0)
-        + rolling::rolling_potential(xi, k.k_r)
-        + sliding::sliding_potential(zeta, k.k_s)
-        + twisting::twisting_potential(c.twist, k.k_t)
-}
 
 /// Removes broken contacts and adds new ones; `candidates` are the neighbour-list pairs.
-pub fn update_contacts(
+pub fn contacts(
     law: &ContactLaw,
     dt: f64,
     monomers: &Monomers,

@@ -1,9 +1,9 @@
 //! Leap-frog pass: kick v(n−½) → v(n+½) with the forces at n, turn contact pointers and advance
 //! twist integrals with the mid-step angular velocities, drift positions and walls.
 
-use crate::state::{ContactTable, Monomers, Wall};
 use crate::model::pointer::rotate_pointer;
 use crate::model::twisting::twist_increment;
+use crate::state::{ContactTable, Monomers, Wall};
 
 /// One leap-frog step, as the device does it in three passes (the twins of the WGSL entry
 /// points of the same names).

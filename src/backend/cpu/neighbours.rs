@@ -6,10 +6,6 @@
 
 use glam::DVec3;
 
-/// Skin of the candidate lists (CPU and GPU) in monomer radii: a list stays valid until some
-/// monomer has moved half of it, ~200 steps at 1 m/s and dt = 0.3 ns.
-pub const SKIN_RADII: f64 = 0.2;
-
 #[derive(Clone, Debug, PartialEq)]
 pub struct NeighbourList {
     /// Centre distance below which a pair can touch (2r).

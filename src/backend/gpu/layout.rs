@@ -5,12 +5,12 @@ use crate::material::ContactConstants;
 use crate::model::Damping;
 use bytemuck::{Pod, Zeroable};
 
-/// `DAMPING_NONE` etc. of shaders/shared/damping.wgsl.
+/// `DAMPING_NONE` etc. of shaders/model/damping.wgsl.
 pub const DAMPING_NONE: u32 = 0;
 pub const DAMPING_VISCOUS: u32 = 1;
 pub const DAMPING_VISCOELASTIC: u32 = 2;
 
-/// The WGSL `Damping` struct of shaders/shared/damping.wgsl: a tag and its one parameter.
+/// The WGSL `Damping` struct of shaders/model/damping.wgsl: a tag and its one parameter.
 /// WGSL aligns the f64 to 8 bytes, hence the explicit padding.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
@@ -122,10 +122,12 @@ pub struct GpuWall {
 
 const _: () = assert!(std::mem::size_of::<GpuWall>() == 192);
 
+/// The block sizes of the fixed summation order both backends follow (`state::reduction`),
+/// which bindings.wgsl declares too.
+pub use crate::state::reduction::{DIAG_THREADS, REDUCE_BLOCK, TALLY_STRIDE};
 /// Numbers shared with shaders/engine/bindings.wgsl; `tests` checks them against the WGSL.
 pub const MAX_WALLS: usize = 8;
 pub const INCOMING_CAPACITY: usize = 16;
-pub const REDUCE_BLOCK: usize = 64;
 pub const NEIGHBOUR_CAPACITY: usize = 24;
 pub const SLOT_CHUNKS: usize = 3;
 /// Work lists (bindings.wgsl `work_list`, lengths in `work`, indirect dispatch arguments in
@@ -145,8 +147,6 @@ pub const WORK_GROUP: usize = 8;
 pub const PAIR_GROUP: usize = 64;
 /// Workgroup size of the passes with one invocation per monomer.
 pub const MONOMER_GROUP: usize = 64;
-pub const DIAG_THREADS: usize = 64;
-pub const TALLY_STRIDE: usize = 8;
 pub const DIAG_PAIR_CONTACTS: usize = 8;
 pub const DIAG_WALL_CONTACTS: usize = 9;
 pub const DIAG_STEPS: usize = 10;

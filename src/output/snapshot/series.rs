@@ -1,11 +1,9 @@
 //! Snapshots of a run's state for ParaView (VTU + PVD collections) and OVITO (LAMMPS dump),
 //! written into `<out>/snapshots/`.
 
+use super::{write_lammps_dump, write_pvd, write_vtu, write_walls_vtp, Snapshot, WallPlane};
 use crate::config::SnapshotChoice;
-use crate::backend::cpu::CpuEngine;
-use super::{
-    write_lammps_dump, write_pvd, write_vtu, write_walls_vtp, Snapshot, WallPlane,
-};
+use crate::state::State;
 use std::io;
 use std::path::{Path, PathBuf};
 
@@ -31,14 +29,14 @@ fn arr(v: glam::DVec3) -> [f64; 3] {
     [v.x, v.y, v.z]
 }
 
-/// Writes the engine's current state as `snap_<step>.vtu` / `.dump` (and the walls as
+/// Writes the state as `snap_<step>.vtu` / `.dump` (and the walls as
 /// `walls_<step>.vtp`), then rewrites `run.pvd` and `walls.pvd` to list every snapshot in the
 /// directory, so a resumed run extends the same series. `tag` names special snapshots
 /// (e.g. "failed"). Returns the files written.
 pub fn write_snapshot(
     out_dir: &Path,
     choice: SnapshotChoice,
-    engine: &CpuEngine,
+    state: &State,
     tag: &str,
 ) -> io::Result<Vec<PathBuf>> {
     if choice == SnapshotChoice::None {
@@ -46,17 +44,17 @@ pub fn write_snapshot(
     }
     let dir = out_dir.join(SNAPSHOT_DIR);
     std::fs::create_dir_all(&dir)?;
-    let m = &engine.monomers;
+    let m = &state.monomers;
     let n = m.len();
     let positions: Vec<[f64; 3]> = m.position.iter().map(|p| arr(*p)).collect();
     let velocities: Vec<[f64; 3]> = (0..n)
-        .map(|i| arr(engine.synchronized_velocity(i)))
+        .map(|i| arr(state.synchronized_velocity(i)))
         .collect();
     let spins: Vec<[f64; 3]> = (0..n)
-        .map(|i| arr(engine.synchronized_angular_velocity(i)))
+        .map(|i| arr(state.synchronized_angular_velocity(i)))
         .collect();
-    let contacts = engine.contacts.coordination();
-    let walls: Vec<WallPlane> = engine
+    let contacts = state.contacts.coordination();
+    let walls: Vec<WallPlane> = state
         .walls
         .iter()
         .map(|w| WallPlane {
@@ -66,23 +64,23 @@ pub fn write_snapshot(
         })
         .collect();
     let snapshot = Snapshot {
-        step: engine.step,
-        time: engine.time,
-        radius: engine.law.radius,
+        step: state.step,
+        time: state.time,
+        radius: state.law.radius,
         positions: &positions,
         velocities: &velocities,
         angular_velocities: &spins,
         contacts: &contacts,
         walls: &walls,
     };
-    let stem = format!("snap_{:010}{tag}", engine.step);
+    let stem = format!("snap_{:010}{tag}", state.step);
     let mut written = Vec::new();
     if matches!(choice, SnapshotChoice::Vtu | SnapshotChoice::Both) {
         let path = dir.join(format!("{stem}.vtu"));
         write_vtu(&path, &snapshot)?;
         written.push(path);
-        let (lo, hi) = bounds(engine);
-        let walls_path = dir.join(format!("walls_{:010}{tag}.vtp", engine.step));
+        let (lo, hi) = bounds(state);
+        let walls_path = dir.join(format!("walls_{:010}{tag}.vtp", state.step));
         write_walls_vtp(&walls_path, &walls, (lo, hi))?;
         written.push(walls_path);
     }
@@ -92,22 +90,22 @@ pub fn write_snapshot(
         written.push(path);
     }
     if tag.is_empty() && matches!(choice, SnapshotChoice::Vtu | SnapshotChoice::Both) {
-        write_collection(&dir, "snap_", ".vtu", "run.pvd", engine.dt)?;
-        write_collection(&dir, "walls_", ".vtp", "walls.pvd", engine.dt)?;
+        write_collection(&dir, "snap_", ".vtu", "run.pvd", state.dt)?;
+        write_collection(&dir, "walls_", ".vtp", "walls.pvd", state.dt)?;
     }
     Ok(written)
 }
 
 /// Bounding box of monomers and wall points, padded by a diameter, for clipping wall planes.
-fn bounds(engine: &CpuEngine) -> ([f64; 3], [f64; 3]) {
-    let pad = glam::DVec3::splat(2.0 * engine.law.radius);
+fn bounds(state: &State) -> ([f64; 3], [f64; 3]) {
+    let pad = glam::DVec3::splat(2.0 * state.law.radius);
     let mut lo = glam::DVec3::splat(f64::INFINITY);
     let mut hi = glam::DVec3::splat(f64::NEG_INFINITY);
-    for p in engine
+    for p in state
         .monomers
         .position
         .iter()
-        .chain(engine.walls.iter().map(|w| &w.point))
+        .chain(state.walls.iter().map(|w| &w.point))
     {
         lo = lo.min(*p);
         hi = hi.max(*p);

@@ -11,10 +11,12 @@ use super::context::{ContextError, GpuContext};
 use super::kernels::{Kernel, Kernels};
 use super::layout::{self, vec4, GpuConstants, GpuDamping, GpuParams, GpuWall};
 use super::shader::ShaderError;
-use crate::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
-use crate::backend::cpu::{CpuEngine, EnergyReport, EngineError};
-use crate::experiment::compression::{Engine, RunError};
+use crate::engine::{Engine, EngineError, SKIN_RADII};
 use crate::model::ContactLaw;
+use crate::state::interaction::wall_interaction;
+use crate::state::{
+    ContactTable, Dissipation, EnergyReport, Monomers, PairContact, State, Wall, WallContact,
+};
 use glam::DVec3;
 use std::borrow::Cow;
 use std::fmt;
@@ -99,6 +101,18 @@ impl From<EngineError> for GpuError {
     }
 }
 
+/// The engine contract's error: a guard the device raised is the engine's own, a lost device
+/// is `DeviceLost`, everything else the GPU's error as it is.
+impl From<GpuError> for EngineError {
+    fn from(e: GpuError) -> Self {
+        match e {
+            GpuError::Engine(e) => e,
+            GpuError::DeviceLost(why) => EngineError::DeviceLost(why),
+            other => EngineError::Backend(Box::new(other)),
+        }
+    }
+}
+
 /// The small block, as last read.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Diagnostics {
@@ -147,7 +161,7 @@ fn groups(n: usize) -> u32 {
 }
 
 impl GpuEngine {
-    /// Builds the engine as [`CpuEngine::new`] does (same arguments, same initial state):
+    /// Builds the engine as the CPU reference's `new` does (same arguments, same initial state):
     /// finds the initial contacts, computes the forces at time 0 and shifts the velocities back
     /// half a step, all on the device.
     pub fn new(
@@ -251,7 +265,7 @@ impl GpuEngine {
 
     /// Continues from a complete state (a checkpoint of either backend): the state is uploaded
     /// as it is, and step, time, tally totals and wall forces carry on from it.
-    pub fn resume(ctx: GpuContext, state: &CpuEngine) -> Result<Self, GpuError> {
+    pub fn resume(ctx: GpuContext, state: &State) -> Result<Self, GpuError> {
         let mut engine = Self::with_state(
             ctx,
             state.law,
@@ -289,7 +303,7 @@ impl GpuEngine {
             radius: law.radius,
             inverse_mass: 1.0 / law.mass,
             inverse_inertia: 1.0 / law.moment_of_inertia,
-            cell: (2.0 + crate::backend::cpu::neighbours::SKIN_RADII) * law.radius,
+            cell: (2.0 + SKIN_RADII) * law.radius,
             e_star: law.e_star,
             poisson: law.poisson,
             damping_value: damping.value,
@@ -341,13 +355,7 @@ impl GpuEngine {
             let (mut p, mut q) = (0.0, 0.0);
             for c in table.walls_of(i) {
                 let w = &self.walls[c.wall as usize];
-                let (f, fd, _) = crate::backend::cpu::walls::wall_interaction(
-                    &self.law,
-                    m.position[i],
-                    m.velocity[i],
-                    w,
-                    c,
-                );
+                let (f, fd, _) = wall_interaction(&self.law, m.position[i], m.velocity[i], w, c);
                 p += f.dot(w.velocity * self.dt);
                 q += fd.dot(w.velocity * self.dt);
             }
@@ -887,21 +895,24 @@ impl GpuEngine {
         self.read("tally", self.sizes.monomers)
     }
 
-    /// The full state as a CPU engine (for energy and momentum reports, snapshots and tests).
-    /// The tally and wall work are those of the last small-block read.
-    pub fn snapshot(&self) -> CpuEngine {
-        CpuEngine::from_state(
-            self.law,
-            self.dt,
-            self.monomers(),
-            self.contacts(),
-            self.current_walls(),
-            self.diagnostics.tally,
-            self.diagnostics.wall_work,
-            self.diagnostics.wall_force.clone(),
-            self.step,
-            self.time,
-        )
+    /// The full state (for energy and momentum reports, checkpoints, snapshots and tests). The
+    /// tally and wall work are those of the last small-block read; the device keeps no damping
+    /// part of the wall forces, so `wall_damping` is zero (a CPU engine continuing from here
+    /// books its first step's wall damping work from zero).
+    pub fn snapshot(&self) -> State {
+        State {
+            law: self.law,
+            dt: self.dt,
+            monomers: self.monomers(),
+            contacts: self.contacts(),
+            walls: self.current_walls(),
+            tally: self.diagnostics.tally,
+            wall_work: self.diagnostics.wall_work,
+            wall_force: self.diagnostics.wall_force.clone(),
+            wall_damping: vec![DVec3::ZERO; self.walls.len()],
+            step: self.step,
+            time: self.time,
+        }
     }
 
     /// Energy report of the current state (a full readback).
@@ -943,7 +954,10 @@ impl Engine for GpuEngine {
     fn time(&self) -> f64 {
         self.time
     }
-    fn run_mean_wall_force(&mut self, steps: u64) -> Result<Vec<DVec3>, RunError> {
+    fn advance(&mut self, steps: u64) -> Result<(), EngineError> {
+        Ok(GpuEngine::run(self, steps)?)
+    }
+    fn run_mean_wall_force(&mut self, steps: u64) -> Result<Vec<DVec3>, EngineError> {
         Ok(GpuEngine::run_mean_wall_force(self, steps)?)
     }
     fn positions(&self) -> Cow<'_, [DVec3]> {
@@ -958,7 +972,7 @@ impl Engine for GpuEngine {
     fn energy(&self) -> EnergyReport {
         GpuEngine::energy(self)
     }
-    fn state(&self) -> Cow<'_, CpuEngine> {
+    fn state(&self) -> Cow<'_, State> {
         Cow::Owned(self.snapshot())
     }
 }

@@ -489,7 +489,10 @@ mod tests {
         let mut on_disk = wgsl_files("shaders/passes");
         on_disk.extend(wgsl_files("shaders/probes"));
         assert_eq!(passes, on_disk);
-        assert!(wgsl_files("shaders").is_empty(), "WGSL files directly in shaders/");
+        assert!(
+            wgsl_files("shaders").is_empty(),
+            "WGSL files directly in shaders/"
+        );
     }
 
     #[test]
