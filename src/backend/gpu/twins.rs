@@ -1,9 +1,9 @@
-//! "One definition, two twins": each `shaders/shared/<m>.wgsl` mirrors `src/model/<m>.rs`
+//! "One definition, two twins": each `shaders/model/<m>.wgsl` mirrors `src/model/<m>.rs`
 //! function for function and constant for constant. These tests hold the two in step without a
-//! GPU; the probe test (tests/contact_law_probe.rs) holds their results in step on one.
+//! GPU; the probe test (tests/gpu_contact_law_probe.rs) holds their results in step on one.
 
 use super::layout;
-use super::shader::{assemble, Source, SHARED};
+use super::shader::{assemble, Source, MODEL};
 use crate::model::normal;
 use std::collections::BTreeSet;
 
@@ -58,7 +58,7 @@ fn rust_model_file(module: &str) -> String {
 }
 
 fn modelled() -> impl Iterator<Item = &'static Source> {
-    SHARED.iter().filter(|m| !NOT_IN_MODEL.contains(&m.name()))
+    MODEL.iter().filter(|m| !NOT_IN_MODEL.contains(&m.name()))
 }
 
 #[test]
@@ -133,7 +133,7 @@ fn parameter_lists_are_read_across_lines_and_generics() {
 }
 
 #[test]
-fn every_model_file_has_a_shared_module() {
+fn every_model_file_has_a_wgsl_module() {
     let dir = format!("{}/src/model", env!("CARGO_MANIFEST_DIR"));
     for entry in std::fs::read_dir(dir).unwrap() {
         let file = entry.unwrap().file_name().into_string().unwrap();
@@ -142,16 +142,16 @@ fn every_model_file_has_a_shared_module() {
         };
         if name != "mod" {
             assert!(
-                SHARED.iter().any(|m| m.name() == name),
-                "src/model/{file} has no shaders/shared/{name}.wgsl"
+                MODEL.iter().any(|m| m.name() == name),
+                "src/model/{file} has no shaders/model/{name}.wgsl"
             );
         }
     }
 }
 
 fn module(name: &str) -> naga::Module {
-    let source = SHARED.iter().find(|m| m.name() == name).unwrap();
-    let (module, _) = assemble(source, SHARED).unwrap().validate().unwrap();
+    let source = MODEL.iter().find(|m| m.name() == name).unwrap();
+    let (module, _) = assemble(source, MODEL).unwrap().validate().unwrap();
     module
 }
 
