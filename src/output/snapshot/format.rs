@@ -1,0 +1,235 @@
+//! Atomic writing (temporary file, fsync, rename) and the number, vector and XML formatting every
+//! snapshot format shares.
+
+use std::ffi::OsString;
+use std::fmt;
+use std::fs::{self, File, OpenOptions};
+use std::io::{self, BufWriter, Write};
+use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use super::validate::invalid;
+use super::{WallPlane, CM_PER_S_PER_M_PER_S, CM_TO_UM};
+
+/// Distinguishes temporary files of concurrent writers within one process.
+pub(super) static TMP_COUNTER: AtomicU64 = AtomicU64::new(0);
+
+/// Writes through `body` into a hidden temporary file next to `path`, fsyncs it and renames
+/// it over `path`. Same directory, because a rename is only atomic within one file system.
+/// The leading dot keeps ParaView's file-series grouping from picking the file up while it
+/// is being written. On any error the temporary file is removed and `path` is untouched.
+pub(super) fn write_atomically<F>(path: &Path, body: F) -> io::Result<()>
+where
+    F: FnOnce(&mut BufWriter<File>) -> io::Result<()>,
+{
+    let file_name = path
+        .file_name()
+        .ok_or_else(|| invalid(format!("{} does not name a file", path.display())))?;
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let mut tmp_name = OsString::from(".");
+    tmp_name.push(file_name);
+    tmp_name.push(format!(
+        ".{}.{}.tmp",
+        std::process::id(),
+        TMP_COUNTER.fetch_add(1, Ordering::Relaxed)
+    ));
+    let tmp = dir.join(tmp_name);
+
+    // Errors from the file system carry no path; a run's log should say which file failed.
+    let context =
+        |e: io::Error| io::Error::new(e.kind(), format!("writing {}: {e}", path.display()));
+    let file = OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&tmp)
+        .map_err(context)?;
+    let written = (|| {
+        let mut w = BufWriter::new(file);
+        body(&mut w)?;
+        let file = w.into_inner().map_err(io::IntoInnerError::into_error)?;
+        file.sync_all()?;
+        drop(file);
+        fs::rename(&tmp, path)
+    })();
+    if let Err(e) = written {
+        let _ = fs::remove_file(&tmp);
+        return Err(context(e));
+    }
+    // Make the rename itself durable. Best effort: the new file is already in place and
+    // complete, and some file systems refuse to fsync a directory; that is no reason to
+    // abort a run.
+    #[cfg(unix)]
+    if let Ok(d) = File::open(dir) {
+        let _ = d.sync_all();
+    }
+    Ok(())
+}
+
+/// An `f64` in the shortest form that parses back to the same bits (`1.5e-3`, `0e0`).
+/// Scientific notation keeps tiny and huge values short, and every VTK, OVITO and C
+/// `strtod` parser accepts it.
+pub(super) struct F(pub(super) f64);
+
+impl fmt::Display for F {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{:e}", self.0)
+    }
+}
+
+/// Three values separated by spaces.
+pub(super) struct V3(pub(super) [f64; 3]);
+
+impl fmt::Display for V3 {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} {} {}", F(self.0[0]), F(self.0[1]), F(self.0[2]))
+    }
+}
+
+/// Text escaped for an XML attribute value.
+pub(super) struct XmlAttr<'a>(pub(super) &'a str);
+
+impl fmt::Display for XmlAttr<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for c in self.0.chars() {
+            match c {
+                '&' => f.write_str("&amp;")?,
+                '<' => f.write_str("&lt;")?,
+                '>' => f.write_str("&gt;")?,
+                '"' => f.write_str("&quot;")?,
+                '\'' => f.write_str("&apos;")?,
+                // Parsers normalise literal line breaks and tabs in attributes to spaces.
+                '\n' => f.write_str("&#10;")?,
+                '\r' => f.write_str("&#13;")?,
+                '\t' => f.write_str("&#9;")?,
+                _ => write!(f, "{c}")?,
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Text that is safe inside an XML comment, which may not contain `--`. Only used for wall
+/// names, which are for people to read, so bending a doubled hyphen is harmless.
+pub(super) struct XmlComment<'a>(pub(super) &'a str);
+
+impl fmt::Display for XmlComment<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let mut prev_hyphen = false;
+        for c in self.0.chars() {
+            if c == '-' && prev_hyphen {
+                f.write_str("~")?;
+                prev_hyphen = false;
+            } else {
+                write!(f, "{c}")?;
+                prev_hyphen = c == '-';
+            }
+        }
+        Ok(())
+    }
+}
+
+pub(super) fn scale(v: [f64; 3], k: f64) -> [f64; 3] {
+    [v[0] * k, v[1] * k, v[2] * k]
+}
+
+pub(super) fn to_m_per_s(v: [f64; 3]) -> [f64; 3] {
+    [
+        v[0] / CM_PER_S_PER_M_PER_S,
+        v[1] / CM_PER_S_PER_M_PER_S,
+        v[2] / CM_PER_S_PER_M_PER_S,
+    ]
+}
+
+pub(super) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+pub(super) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+pub(super) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// `v / |v|`; non-finite for a zero or non-finite `v`, which validation turns into an error.
+pub(super) fn unit(v: [f64; 3]) -> [f64; 3] {
+    // hypot avoids overflow/underflow for normals given with extreme magnitudes.
+    let len = v[0].hypot(v[1]).hypot(v[2]);
+    if len > 0.0 {
+        scale(v, 1.0 / len)
+    } else {
+        [f64::NAN; 3]
+    }
+}
+
+/// Writes a `DataArray` of vectors, one tuple per line.
+pub(super) fn vector_array<W: Write>(
+    w: &mut W,
+    name: &str,
+    values: impl Iterator<Item = [f64; 3]>,
+) -> io::Result<()> {
+    writeln!(
+        w,
+        r#"        <DataArray type="Float64" Name="{name}" NumberOfComponents="3" format="ascii">"#
+    )?;
+    for v in values {
+        writeln!(w, "          {}", V3(v))?;
+    }
+    writeln!(w, "        </DataArray>")
+}
+
+/// Writes a single-component `DataArray`, a handful of values per line.
+pub(super) fn scalar_array<W: Write, T: fmt::Display>(
+    w: &mut W,
+    ty: &str,
+    name: &str,
+    values: impl Iterator<Item = T>,
+) -> io::Result<()> {
+    writeln!(
+        w,
+        r#"        <DataArray type="{ty}" Name="{name}" format="ascii">"#
+    )?;
+    for (i, v) in values.enumerate() {
+        if i % 8 == 0 {
+            if i > 0 {
+                writeln!(w)?;
+            }
+            write!(w, "         ")?;
+        }
+        write!(w, " {v}")?;
+    }
+    writeln!(w)?;
+    writeln!(w, "        </DataArray>")
+}
+
+pub(super) fn wall_comment<W: Write>(
+    w: &mut W,
+    walls: &[WallPlane],
+    indent: &str,
+) -> io::Result<()> {
+    if walls.is_empty() {
+        return writeln!(w, "{indent}walls: none");
+    }
+    writeln!(
+        w,
+        "{indent}walls (point in um, unit normal into the domain):"
+    )?;
+    for (i, wall) in walls.iter().enumerate() {
+        writeln!(
+            w,
+            "{indent}  {i} {}: point {} normal {}",
+            XmlComment(&wall.name),
+            V3(scale(wall.point, CM_TO_UM)),
+            V3(unit(wall.normal))
+        )?;
+    }
+    Ok(())
+}
