@@ -4,11 +4,12 @@
 //! `measured` reads the data, `effects` maps named one-parameter effects onto the config,
 //! `simulate` makes (and caches) the runs, `gap` measures the difference and its noise,
 //! `attribution` fits one effect at a time and decides, `workflow` runs the add-and-rerun
-//! loop, `synth` writes measured-like data from the simulator, and `report` and `raster` write
-//! the Markdown report, plots and the corrected config.
+//! loop, `synth` writes measured-like data from the simulator, and `report`, `figures` and
+//! `raster` write the Markdown report, plots and the corrected config.
 
 pub mod attribution;
 pub mod effects;
+pub mod figures;
 pub mod gap;
 pub mod measured;
 pub mod raster;

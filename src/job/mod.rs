@@ -1,46 +1,42 @@
 //! Running a configured job end to end: set up (or resume), simulate, write the curve,
 //! profiles, checkpoints, the effective config and a plot into the output directory.
+//!
+//! The job is where a backend is chosen (`backend`): everything it calls is written against
+//! the engine contract. Here: fresh and resumed compressions and the loop that reports their
+//! rows; `checkpoint` (checkpoint bodies, reading one back, the failed state),
+//! `collision` (the head-on collision job) and `figure` (the curve plot with its measured
+//! reference).
 
-use crate::analysis::fit::Eq13;
+mod backend;
+mod checkpoint;
+mod collision;
+mod figure;
+
+pub use backend::{gpu_report, reference_engine, Backend};
+pub use checkpoint::{load_checkpoint, LoadedCheckpoint};
+pub use figure::{curve_plot, BLUM_SCHRAEPLER_2004_UNI, GUETTLER_2009_OMNI};
+
 use crate::backend::cpu::CpuEngine;
-use crate::backend::gpu::context::{GpuContext, Requirements};
-use crate::backend::gpu::engine::{GpuEngine, GpuError};
-use crate::binary::{Decoder, Encoder};
+use crate::backend::gpu::engine::GpuEngine;
 use crate::config::{Config, ExperimentKind};
 use crate::engine::{Engine, EngineError};
-use crate::experiment::collision::{analytic_sticking_speed, head_on_collision, Outcome};
 use crate::experiment::compression::{Compression, Event, Row, RunError, StopReason};
-use crate::model::ContactLaw;
-use crate::output::atomic::write_atomic;
-use crate::output::checkpoint::{read_checkpoint, write_checkpoint};
+use crate::output::checkpoint::write_checkpoint;
 use crate::output::csv::{read_csv, CsvWriter};
-use crate::output::plot::{Plot, Series, Style};
 use crate::output::run_dir::{
-    check_resumable, new_run_id, resolve_outputs, NewRunDir, RunDir, CONFIG_FILE,
-    FAILED_CHECKPOINT_FILE, OUTPUTS_BESIDE_CHECKPOINT, PLOT_FILE, SUMMARY_FILE,
+    check_resumable, new_run_id, NewRunDir, RunDir, CONFIG_FILE, PLOT_FILE,
 };
 use crate::output::snapshot::series::write_snapshot;
-use crate::state::{Monomers, State, Wall};
+use crate::state::State;
+use backend::choose_backend;
+use checkpoint::{checkpoint_body, keep_failed_state};
+use collision::run_collision;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// The built-in default job: a small omnidirectional compression.
 pub const DEFAULT_CONFIG: &str = include_str!("../../configs/omni_quick.toml");
-
-/// Measured reference curves of docs/physics.md, Sect. 5.8 (Eq. 13 parameters, pressures in Pa).
-pub const GUETTLER_2009_OMNI: Eq13 = Eq13 {
-    phi1: 0.15,
-    phi2: 0.58,
-    p_m: 16_667.0,
-    delta: 0.562,
-};
-pub const BLUM_SCHRAEPLER_2004_UNI: Eq13 = Eq13 {
-    phi1: 0.15,
-    phi2: 0.33,
-    p_m: 5_600.0,
-    delta: 0.33,
-};
 
 pub use crate::output::run_dir::{CHECKPOINT_FILE, CURVE_FILE, PROFILE_FILE};
 const PROFILE_HEADER: [&str; 5] = ["step", "time_s", "phi_mean", "z_um", "phi"];
@@ -59,45 +55,6 @@ pub struct Progress<'a> {
     pub fraction: f64,
     /// Steps per second of wall-clock time since the job (or resume) started.
     pub steps_per_second: f64,
-}
-
-/// Which engine runs a compression.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Backend {
-    /// The f64 CPU reference.
-    Cpu,
-    /// The WGSL engine on the best adapter with f64 (an error when there is none).
-    Gpu,
-    /// A hardware GPU when one fits, else the CPU. A software adapter (lavapipe) is not
-    /// chosen: it runs the same shaders several times slower than the CPU reference
-    /// (README, benchmark); `Gpu` uses it anyway.
-    Auto,
-}
-
-impl std::str::FromStr for Backend {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "cpu" => Ok(Backend::Cpu),
-            "gpu" => Ok(Backend::Gpu),
-            "auto" => Ok(Backend::Auto),
-            other => Err(format!("backend `{other}`: expected cpu, gpu or auto")),
-        }
-    }
-}
-
-/// The f64 CPU reference engine, built from an initial state as every engine is (the `build`
-/// argument of the experiments). Collisions and calibrations run on it: it is deterministic on
-/// every machine, and a GPU would not speed up two monomers or a few hundred.
-pub fn reference_engine(
-    law: ContactLaw,
-    dt: f64,
-    monomers: Monomers,
-    walls: Vec<Wall>,
-    pair_slots: usize,
-    wall_slots: usize,
-) -> Result<CpuEngine, EngineError> {
-    CpuEngine::new(law, dt, monomers, walls, pair_slots, wall_slots)
 }
 
 /// How a job reports, where it runs and when it stops early.
@@ -162,37 +119,6 @@ fn create_run_dir<T>(
             Err(e)
         }
     }
-}
-
-/// The GPU context a job runs on (`None`: the CPU reference), announced through the notice.
-fn choose_backend(options: &mut JobOptions) -> Result<Option<GpuContext>, RunError> {
-    let context = match options.backend {
-        Backend::Cpu => None,
-        Backend::Gpu => Some(
-            GpuContext::new(&Requirements::default())
-                .map_err(|e| EngineError::from(GpuError::from(e)))?,
-        ),
-        Backend::Auto => match GpuContext::new(&Requirements::default()) {
-            Ok(ctx) if ctx.summary().device_type == wgpu::DeviceType::Cpu => {
-                (options.notice)(&format!(
-                    "backend: cpu (f64 reference); the only adapter, {}, is a software \
-                     renderer and slower (--backend gpu uses it anyway)",
-                    ctx.summary().name
-                ));
-                return Ok(None);
-            }
-            found => found.ok(),
-        },
-    };
-    match &context {
-        None => (options.notice)("backend: cpu (f64 reference)"),
-        Some(ctx) => (options.notice)(&format!(
-            "backend: gpu ({}, {:?} float mode)",
-            ctx.summary().name,
-            ctx.float_mode
-        )),
-    }
-    Ok(context)
 }
 
 /// Creates the run directory with the output tables and the first snapshot of a fresh
@@ -292,63 +218,6 @@ fn continue_job<E: Engine>(
     )
 }
 
-/// A checkpoint read back: the run, its config and id, and where its outputs are with the
-/// length and FNV-1a hash each had when the checkpoint was written.
-pub struct LoadedCheckpoint {
-    pub run_id: String,
-    pub config: Config,
-    /// The directory holding the checkpoint (checkpoints store it relative to themselves).
-    pub out_dir: PathBuf,
-    pub curve_len: u64,
-    pub curve_hash: u64,
-    pub profile_len: u64,
-    pub profile_hash: u64,
-    /// The run as stored, on no engine yet.
-    pub run: Compression<State>,
-}
-
-/// Reads and checks a checkpoint file completely (header, checksum, config, state).
-///
-/// Body (format version 2): run id, effective config, output directory relative to the
-/// checkpoint's directory (each as u64 length + UTF-8), curve.csv length and hash,
-/// profiles.csv length and hash (u64 each), then the run's state.
-pub fn load_checkpoint(checkpoint: &Path) -> Result<LoadedCheckpoint, RunError> {
-    let body = read_checkpoint(checkpoint).map_err(|e| RunError::Output(e.to_string()))?;
-    let bad = |e: crate::binary::DecodeError| {
-        RunError::Output(format!("checkpoint {}: {e}", checkpoint.display()))
-    };
-    let mut d = Decoder::new(&body);
-    let run_id = String::from_utf8_lossy(d.bytes_with_len("run id").map_err(bad)?).into_owned();
-    let text = String::from_utf8_lossy(d.bytes_with_len("config").map_err(bad)?).into_owned();
-    let origin = format!("config inside checkpoint {}", checkpoint.display());
-    let config = Config::parse(&text, &origin).map_err(|e| RunError::Output(e.to_string()))?;
-    let stored = d.bytes_with_len("output directory").map_err(bad)?;
-    let out_dir = resolve_outputs(checkpoint, &String::from_utf8_lossy(stored))
-        .map_err(|e| RunError::Output(format!("checkpoint {}: {e}", checkpoint.display())))?;
-    let curve_len = d.u64("curve length").map_err(bad)?;
-    let curve_hash = d.u64("curve hash").map_err(bad)?;
-    let profile_len = d.u64("profile length").map_err(bad)?;
-    let profile_hash = d.u64("profile hash").map_err(bad)?;
-    let run = Compression::decode_state(&config, &mut d).map_err(bad)?;
-    if d.remaining() != 0 {
-        return Err(RunError::Output(format!(
-            "checkpoint {}: {} unexpected bytes after the state",
-            checkpoint.display(),
-            d.remaining()
-        )));
-    }
-    Ok(LoadedCheckpoint {
-        run_id,
-        config,
-        out_dir,
-        curve_len,
-        curve_hash,
-        profile_len,
-        profile_hash,
-        run,
-    })
-}
-
 fn describe_run<E: Engine>(config: &Config, run: &Compression<E>) -> String {
     format!(
         "dustdem {} compression, {} monomers, wall speed {} m/s, dt {} ns, seed {}",
@@ -362,27 +231,6 @@ fn describe_run<E: Engine>(config: &Config, run: &Compression<E>) -> String {
         config.integration.dt_ns,
         config.sample.seed
     )
-}
-
-/// The body of a checkpoint written into the run's directory (layout: [`load_checkpoint`]).
-fn checkpoint_body<E: Engine>(
-    config: &Config,
-    run_id: &str,
-    run: &Compression<E>,
-    curve: &CsvWriter,
-    profiles: &CsvWriter,
-) -> Result<Vec<u8>, RunError> {
-    let mut e = Encoder::default();
-    e.bytes_with_len(run_id.as_bytes());
-    let text = toml::to_string(config).map_err(|e| RunError::Output(e.to_string()))?;
-    e.bytes_with_len(text.as_bytes());
-    e.bytes_with_len(OUTPUTS_BESIDE_CHECKPOINT.as_bytes());
-    for (length, hash) in [curve.extent(), profiles.extent()] {
-        e.u64(length);
-        e.u64(hash);
-    }
-    run.encode_state(&mut e);
-    Ok(e.bytes)
 }
 
 /// The compression loop shared by fresh and resumed runs.
@@ -493,47 +341,6 @@ fn drive<E: Engine>(
     finish(out_dir, &run, stop, &curve_path, &profile_path)
 }
 
-/// After a run-time guard fired: a checkpoint and a snapshot of the failed state for
-/// inspection (beside, not over, the last good checkpoint), and a message naming them.
-fn keep_failed_state<E: Engine>(
-    config: &Config,
-    out_dir: &Path,
-    run_id: &str,
-    run: &Compression<E>,
-    curve: &CsvWriter,
-    profiles: &CsvWriter,
-    error: EngineError,
-) -> RunError {
-    let mut kept = Vec::new();
-    let checkpoint = out_dir.join(FAILED_CHECKPOINT_FILE);
-    let body = checkpoint_body(config, run_id, run, curve, profiles);
-    if let Ok(body) = body {
-        if write_checkpoint(&checkpoint, &body).is_ok() {
-            kept.push(checkpoint);
-        }
-    }
-    let choice = match config.output.snapshot_format {
-        crate::config::SnapshotChoice::None => crate::config::SnapshotChoice::Vtu,
-        c => c,
-    };
-    let snapshot = write_snapshot(out_dir, choice, &run.engine.state(), "_failed");
-    if let Ok(files) = &snapshot {
-        kept.extend(files.iter().cloned());
-    }
-    let last_good = out_dir.join(CHECKPOINT_FILE);
-    let mut message = format!("{error}; the failed state is kept in:");
-    for f in &kept {
-        message.push_str(&format!(" {}", f.display()));
-    }
-    if let Err(e) = snapshot {
-        message.push_str(&format!(" (no snapshot: {e})"));
-    }
-    if last_good.exists() {
-        message.push_str(&format!("; last good checkpoint: {}", last_good.display()));
-    }
-    RunError::Output(message)
-}
-
 fn finish<E: Engine>(
     out_dir: &Path,
     run: &Compression<E>,
@@ -577,71 +384,4 @@ fn finish<E: Engine>(
         ],
         lines,
     })
-}
-
-fn run_collision(
-    config: &Config,
-    fresh: NewRunDir,
-    effective: &str,
-) -> Result<JobSummary, RunError> {
-    let law = config.contact_law();
-    let speed = config.experiment.collision_speed_m_s * 100.0;
-    let result = head_on_collision(&law, speed, config.dt(), 5.0, reference_engine)?;
-    let outcome = match result.outcome {
-        Outcome::Stuck => "stuck".to_string(),
-        Outcome::Separated { rebound_speed } => {
-            format!("separated, rebound speed {:.4} m/s", rebound_speed / 100.0)
-        }
-    };
-    let lines = vec![
-        format!("head-on collision at {:.4} m/s: {outcome}", speed / 100.0),
-        format!(
-            "largest overlap {:.4} delta0",
-            result.max_overlap / law.pair.delta0
-        ),
-        format!(
-            "undamped sticking threshold from the JKR loop: {:.4} m/s",
-            analytic_sticking_speed(&law) / 100.0
-        ),
-    ];
-    let (dir, summary_path) = create_run_dir(fresh, effective, |dir| {
-        let summary_path = dir.dir.join(SUMMARY_FILE);
-        write_atomic(&summary_path, (lines.join("\n") + "\n").as_bytes())
-            .map_err(io_err(&summary_path))?;
-        Ok(summary_path)
-    })?;
-    Ok(JobSummary {
-        files: vec![dir.dir.join(CONFIG_FILE), summary_path],
-        out_dir: dir.dir,
-        lines,
-    })
-}
-
-/// φ against P with the measured reference curve of the same geometry.
-pub fn curve_plot(kind: ExperimentKind, points: &[(f64, f64)]) -> Plot {
-    let (name, reference) = match kind {
-        ExperimentKind::Uni => ("Blum & Schräpler 2004 (Eq. 13)", BLUM_SCHRAEPLER_2004_UNI),
-        _ => ("Güttler et al. 2009 (Eq. 13)", GUETTLER_2009_OMNI),
-    };
-    let measured: Vec<(f64, f64)> = (0..=80)
-        .map(|k| {
-            let p = 10f64.powf(1.0 + 6.0 * k as f64 / 80.0);
-            (p, reference.phi(p))
-        })
-        .collect();
-    let mut plot = Plot::new(
-        "Compressive strength",
-        "pressure P [Pa]",
-        "filling factor φ",
-    );
-    plot.x_log = true;
-    plot.x_range = Some((10.0, 1e7));
-    plot.y_range = Some((0.0, 0.75));
-    plot.series.push(Series::new(
-        "simulation (top wall)",
-        points.to_vec(),
-        Style::Line,
-    ));
-    plot.series.push(Series::new(name, measured, Style::Dashed));
-    plot
 }
