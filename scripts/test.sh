@@ -58,6 +58,11 @@ if ! ldconfig -p 2>/dev/null | grep -q libvulkan.so.1 || ! ls /usr/share/vulkan/
   fi
 fi
 
-# The Vulkan loader warns without a runtime directory; give it a private one.
-export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-$(mktemp -d)}"
+# Mesa's device-select layer makes libwayland complain without a runtime directory (the GPU
+# tests probe for an adapter in-process); give the tests a private one, removed at exit.
+if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
+  XDG_RUNTIME_DIR="$(mktemp -d -t dustdem-runtime.XXXXXX)"
+  export XDG_RUNTIME_DIR
+  trap 'rm -rf "$XDG_RUNTIME_DIR"' EXIT
+fi
 cargo test --release "$@"

@@ -5,7 +5,7 @@
 //! Experiments are written against this trait alone; which backend runs is chosen in `job`.
 
 use crate::model::ContactLaw;
-use crate::state::{EnergyReport, State, Wall};
+use crate::state::{simulated_time, EnergyReport, State, Wall};
 use glam::DVec3;
 use std::borrow::Cow;
 use std::fmt;
@@ -103,7 +103,12 @@ pub trait Engine {
     fn walls(&self) -> &[Wall];
     fn monomer_count(&self) -> usize;
     fn step_count(&self) -> u64;
-    fn time(&self) -> f64;
+    /// The time step [s].
+    fn dt(&self) -> f64;
+    /// Simulated time [s]: [`simulated_time`] of the step count; not overridden.
+    fn time(&self) -> f64 {
+        simulated_time(self.step_count(), self.dt())
+    }
     /// Advances `steps` steps.
     fn advance(&mut self, steps: u64) -> Result<(), EngineError>;
     /// Advances `steps` steps and returns each wall's force on the monomers averaged over them.

@@ -2,7 +2,10 @@
 //! naming the file, the field or place, the value and what is allowed. (Bad configs are in
 //! tests/cli.rs; the files live in tests/bad_inputs/.)
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use common::Scratch;
+use std::path::Path;
 use std::process::{Command, Output};
 
 fn dustdem(args: &[&str]) -> Output {
@@ -12,11 +15,8 @@ fn dustdem(args: &[&str]) -> Output {
         .unwrap()
 }
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("dustdem-bad-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(name: &str) -> Scratch {
+    Scratch::new(&format!("bad-{name}"))
 }
 
 fn assert_refused(out: &Output, case: &str, needles: &[&str]) {
@@ -175,11 +175,42 @@ fn a_blown_up_run_stops_naming_step_and_monomer_and_keeps_its_state() {
         "blow-up",
         &["at step", "monomer", "checkpoint-failed.bin"],
     );
-    assert!(
-        stderr.contains("_failed.vtu") || stderr.contains("no snapshot: "),
-        "{stderr}"
-    );
+    assert!(!stderr.contains("no snapshot"), "{stderr}");
     assert!(out_dir.join("checkpoint-failed.bin").is_file(), "{stderr}");
+    // The failed state as a VTU, named in the message, that a reader independent of ours
+    // (vtkio) parses: 200 points, every point array complete, NaN and inf kept as they are.
+    let failed: Vec<_> = std::fs::read_dir(out_dir.join("snapshots"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.to_string_lossy().ends_with("_failed.vtu"))
+        .collect();
+    assert_eq!(failed.len(), 1, "{failed:?}");
+    assert!(stderr.contains(failed[0].to_str().unwrap()), "{stderr}");
+    let vtk = vtkio::Vtk::import(&failed[0]).expect("the failed-state VTU parses");
+    let vtkio::model::DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
+        panic!("not an unstructured grid");
+    };
+    let vtkio::model::Piece::Inline(piece) = &pieces[0] else {
+        panic!("piece not inline");
+    };
+    assert_eq!(piece.points.len(), 3 * 200);
+    for a in &piece.data.point {
+        let vtkio::model::Attribute::DataArray(a) = a else {
+            panic!("unexpected field attribute");
+        };
+        let per_point = a.data.len() / 200;
+        assert!(per_point == 1 || per_point == 3, "{}", a.name);
+        assert_eq!(a.data.len() % 200, 0, "{}", a.name);
+    }
+    // This blow-up leaves non-finite values behind, so the file shows how they are kept.
+    let finite = piece.data.point.iter().find_map(|a| match a {
+        vtkio::model::Attribute::DataArray(a) if a.name == "finite" => Some(&a.data),
+        _ => None,
+    });
+    let Some(vtkio::model::IOBuffer::U8(finite)) = finite else {
+        panic!("no UInt8 array `finite`: the blown-up state had no non-finite value?");
+    };
+    assert!(finite.contains(&0), "{finite:?}");
 }
 
 #[test]

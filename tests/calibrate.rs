@@ -8,6 +8,9 @@
 //! case adds 4, 5, 6), so the baseline and the screen of every effect are simulated once for
 //! the whole file; synthetic data use other seeds (101–106, 201–203) and added noise.
 
+mod common;
+
+use common::Scratch;
 use dustdem::calibrate::attribution::Decision;
 use dustdem::calibrate::measured::Geometry;
 use dustdem::calibrate::report::{
@@ -67,10 +70,8 @@ fn synthetic(
         ..SynthSpec::default()
     };
     let set = synthesize(&config, &spec, cache(), 2, &quiet).unwrap();
-    let path = std::env::temp_dir().join(format!(
-        "dustdem-calibrate-{}-{name}.toml",
-        std::process::id()
-    ));
+    let dir = Scratch::new(&format!("calibrate-{name}"));
+    let path = dir.join("data.toml");
     std::fs::write(&path, set.to_toml()).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
     for e in Effect::ALL {
@@ -102,7 +103,7 @@ fn run_calibration(name: &str, measured: &MeasuredSet, settings: &Settings) -> C
         }
     }
     // The report, plot and corrected config are written for every case.
-    let out = std::env::temp_dir().join(format!("dustdem-calibrate-{}-{name}", std::process::id()));
+    let out = Scratch::new(&format!("calibrate-{name}"));
     let files = write_outputs(&cal, &out, "data.toml", Path::new("base.toml")).unwrap();
     assert!(files.iter().all(|f| f.is_file()));
     cal
@@ -288,8 +289,7 @@ fn dustdem(args: &[&str]) -> std::process::Output {
 
 #[test]
 fn bad_measured_files_exit_2_naming_file_field_and_value() {
-    let dir = std::env::temp_dir().join(format!("dustdem-calibrate-bad-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::new("calibrate-bad");
     let good = "[[compression]]\ngeometry = \"omni\"\npressure_pa = [1e2, 1e3]\nphi = [0.15, 0.2]\nphi_sigma = 0.01\n";
     let cases = [
         (
@@ -338,8 +338,7 @@ fn synth_and_calibrate_from_the_command_line() {
     // Sticking only (cheap): synth writes data with stronger damping, calibrate finds it,
     // reports progress on stderr and writes the report, the PNG and the corrected config. The
     // same seeds give the same file.
-    let dir = std::env::temp_dir().join(format!("dustdem-calibrate-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::new("calibrate-cli");
     let config = repo("configs/calibrate_quick.toml");
     let data = dir.join("data.toml");
     let synth = |out: &Path| {

@@ -1,7 +1,10 @@
 //! The command line end to end: a small compression run, the other subcommands, and bad input.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
+
+use common::Scratch;
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
 
 fn dustdem(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_dustdem"))
@@ -10,11 +13,8 @@ fn dustdem(args: &[&str]) -> Output {
         .expect("dustdem runs")
 }
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("dustdem-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(name: &str) -> Scratch {
+    Scratch::new(&format!("cli-{name}"))
 }
 
 fn column(header: &[String], rows: &[Vec<f64>], name: &str) -> Vec<f64> {
@@ -206,4 +206,64 @@ fn bad_configs_are_refused_with_a_clear_message() {
     let missing = dustdem(&["run", "no/such/config.toml"]);
     assert_eq!(missing.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&missing.stderr).contains("no/such/config.toml"));
+}
+
+/// Nothing on stderr that looks like an error of ours where `XDG_RUNTIME_DIR` is unset: the
+/// adapter probe (`run --backend auto`, `info`) keeps the Vulkan libraries quiet, and
+/// `run --backend cpu` does not probe at all. Each command runs once with no Wayland display
+/// named and once with a name that does not exist (Mesa's device-select layer then tries to
+/// connect, which is what prints `error: XDG_RUNTIME_DIR is invalid or not set` otherwise).
+/// The private runtime directory the probe used is gone when the process has exited.
+#[test]
+fn no_stray_error_lines_without_a_runtime_dir() {
+    let dir = scratch("quiet");
+    let config = dir.join("tiny.toml");
+    std::fs::write(
+        &config,
+        "[sample]\nmonomers = 50\n[experiment]\nmax_steps = 300\n[output]\nsnapshot_format = \"none\"\n",
+    )
+    .unwrap();
+    let mut k = 0;
+    for display in [None, Some("dustdem-no-such-display")] {
+        for backend in ["cpu", "auto", "info"] {
+            k += 1;
+            let out = dir.join(format!("out-{k}"));
+            let args: Vec<&str> = match backend {
+                "info" => vec!["info"],
+                b => vec![
+                    "run",
+                    config.to_str().unwrap(),
+                    "--backend",
+                    b,
+                    "--quiet",
+                    "--out",
+                    out.to_str().unwrap(),
+                ],
+            };
+            let mut command = Command::new(env!("CARGO_BIN_EXE_dustdem"));
+            command
+                .args(&args)
+                .env_remove("XDG_RUNTIME_DIR")
+                .stdout(Stdio::piped())
+                .stderr(Stdio::piped());
+            match display {
+                Some(name) => command.env("WAYLAND_DISPLAY", name),
+                None => command.env_remove("WAYLAND_DISPLAY"),
+            };
+            let child = command.spawn().expect("dustdem runs");
+            let pid = child.id();
+            let result = child.wait_with_output().unwrap();
+            let stderr = String::from_utf8_lossy(&result.stderr);
+            let case = format!("{args:?} with WAYLAND_DISPLAY {display:?}");
+            assert!(result.status.success(), "{case}: {stderr}");
+            let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
+            assert!(errors.is_empty(), "{case}: {errors:?}");
+            let runtime = std::env::temp_dir().join(format!("dustdem-runtime-{pid}"));
+            assert!(
+                !runtime.exists(),
+                "{case}: {} left behind",
+                runtime.display()
+            );
+        }
+    }
 }

@@ -3,14 +3,18 @@
 //!
 //! CI runs a fixed number of cases per parser. For a longer, time-bounded search:
 //! `DUSTDEM_FUZZ_SECONDS=600 cargo test --release --test fuzz_parsers -- --nocapture`
-//! (seconds per parser; a failing input is saved next to the temp directory it names).
+//! (seconds per parser; a failing input is saved in a temp directory that the failure names
+//! and that is kept).
 
+mod common;
+
+use common::Scratch;
 use dustdem::binary::fnv1a64;
 use dustdem::config::Config;
 use dustdem::job::load_checkpoint;
 use dustdem::sample::Sample;
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, Instant};
 
@@ -93,10 +97,8 @@ fn fuzz(name: &str, seed: &[u8], tokens: &[&[u8]], dir: &Path, check: &dyn Fn(&[
     eprintln!("{name}: {done} mutated inputs, no panic");
 }
 
-fn scratch() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("dustdem-fuzz-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(name: &str) -> Scratch {
+    Scratch::new(&format!("fuzz-{name}"))
 }
 
 const TOML_TOKENS: &[&[u8]] = &[
@@ -120,7 +122,7 @@ const TOML_TOKENS: &[&[u8]] = &[
 
 #[test]
 fn config_parser_never_panics() {
-    let dir = scratch();
+    let dir = scratch("config");
     let seed = std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/omni_quick.toml"))
         .unwrap();
     let full = b"[material]\nradius_um = 0.6\n[model]\ndamping = { kind = \"viscoelastic\", t_vis = 1e-11 }\n[walls]\nside = { rolling = 0.001, sliding = 0.001, twisting = 0.001 }\n[integration]\ndt_ns = 0.2\n";
@@ -133,7 +135,7 @@ fn config_parser_never_panics() {
 
 #[test]
 fn sample_parser_never_panics() {
-    let dir = scratch();
+    let dir = scratch("sample");
     let good = dir.join("good.sample");
     let config = dir.join("small.toml");
     std::fs::write(&config, "[sample]\nmonomers = 12\n").unwrap();
@@ -170,7 +172,7 @@ fn sample_parser_never_panics() {
 
 #[test]
 fn checkpoint_reader_never_panics() {
-    let dir = scratch();
+    let dir = scratch("checkpoint");
     let config = dir.join("ckpt.toml");
     std::fs::write(
         &config,

@@ -127,7 +127,9 @@ fn compare_1_m_per_s(mode: Option<FloatMode>) {
     if mode == FloatMode::Exact {
         // Bit-identical trajectories: equal rows, pressures up to the wall-force summation order.
         assert_eq!(cpu.len(), gpu.len());
-        assert!(dp <= 1e-9, "{dp:e}");
+        // Only the wall-force sums run in another order: measured 6.3e-16; reordering a sum of
+        // ~10³ forces moves it by at most ~10³ ε of its terms' size. Bound 1e-12.
+        assert!(dp <= 1e-12, "{dp:e}");
         for (a, b) in cpu.iter().zip(&gpu) {
             assert_eq!(a.phi, b.phi);
             assert_eq!((a.contacts, a.wall_contacts), (b.contacts, b.wall_contacts));
@@ -215,6 +217,13 @@ fn compare_1_cm_per_s(mode: Option<FloatMode>) {
         a / area * 0.1 > 100.0,
         "the segment starts from a loaded state"
     );
-    let bound = if mode == FloatMode::Exact { 1e-9 } else { 0.02 };
+    // Exact mode: measured 8.1e-16 (summation order only, as above), bound 1e-12. Relaxed mode
+    // (contracted multiply-adds on other adapters) lets trajectories drift apart; measured
+    // 8.2e-13 on lavapipe, the 2 % bound is for adapters that contract more.
+    let bound = if mode == FloatMode::Exact {
+        1e-12
+    } else {
+        0.02
+    };
     assert!(rel <= bound, "{rel:e}");
 }

@@ -305,7 +305,8 @@ fn cases() -> Vec<Case> {
     let material = Material::silicate();
     let laws = [
         ContactLaw::new(&material, &ModelOptions::default()),
-        // The paper's calibrated modifiers, another k_t and viscoelastic damping.
+        // The paper's calibrated modifiers, another k_t (and the wall's own), viscoelastic
+        // damping.
         ContactLaw::new(
             &material,
             &ModelOptions {
@@ -313,7 +314,7 @@ fn cases() -> Vec<Case> {
                 sliding_modifier: 2.5,
                 twisting_modifier: 1.0,
                 twisting_stiffness: TwistingStiffness::ReducedShear,
-                wall_twisting: WallTwisting::Pair,
+                wall_twisting: WallTwisting::WallContactRadius,
                 damping: Damping::Viscoelastic { t_vis: 5e-12 },
             },
         ),

@@ -1,12 +1,13 @@
 //! Device failures are detected and reported, never dropped or panicked on: overflows of contact
-//! slots, cell-table buckets and candidate lists (with the monomer, the limit and what to raise), and a lost device.
+//! slots, cell-table buckets and candidate lists (with the monomer, the limit and the config key
+//! to change), and a lost device.
 
 use dustdem::backend::gpu::context::context_for_tests;
 use dustdem::backend::gpu::engine::{GpuEngine, GpuError};
-use dustdem::backend::gpu::layout::NEIGHBOUR_CAPACITY;
+use dustdem::backend::gpu::layout::{INCOMING_CAPACITY, NEIGHBOUR_CAPACITY};
 use dustdem::config::Config;
 use dustdem::experiment::compression::{Compression, RunError};
-use dustdem::state::Monomers;
+use dustdem::state::{Monomers, Wall};
 use glam::DVec3;
 
 /// `count` points on a sphere of radius `radius` around the origin (Fibonacci lattice).
@@ -57,9 +58,58 @@ fn pair_slot_overflow_on_the_gpu_names_the_setting() {
         Ok(_) => panic!("an RBD sample has monomers with two partners of higher index"),
     };
     assert!(
-        text.contains("more than 1 monomer-monomer contact slots") && text.contains("pair_slots"),
+        text.contains("more than 1 monomer-monomer contact slots")
+            && text.contains("[integration] pair_slots"),
         "{text}"
     );
+}
+
+#[test]
+fn wall_slot_overflow_on_the_gpu_names_the_setting() {
+    // One monomer in the corner of two walls, overlapping each by δ₀/2, with one wall slot.
+    let Some(ctx) = context_for_tests() else {
+        return;
+    };
+    let law = Config::default().contact_law();
+    let d = law.radius - 0.5 * law.wall.delta0;
+    let wall = |name: &str, normal: DVec3| Wall {
+        name: name.into(),
+        point: DVec3::ZERO,
+        normal,
+        velocity: DVec3::ZERO,
+        constants: law.wall,
+    };
+    let result = GpuEngine::new(
+        ctx,
+        law,
+        1e-10,
+        Monomers::new(vec![DVec3::new(d, 5.0 * law.radius, d)]),
+        vec![wall("bottom", DVec3::Z), wall("side", DVec3::X)],
+        4,
+        1,
+    );
+    let text = result
+        .expect_err("two wall contacts in one slot")
+        .to_string();
+    assert!(
+        text.contains("more than 1 monomer-wall contact slots")
+            && text.contains("[integration] wall_slots"),
+        "{text}"
+    );
+}
+
+/// The lists without a config key of their own name the keys that keep a state from filling
+/// them, and no source constant.
+fn assert_names_what_to_change(error: &GpuError) {
+    let text = error.to_string();
+    for key in [
+        "[integration] dt_ns",
+        "[experiment] wall_speed_m_s",
+        "[sample] file",
+    ] {
+        assert!(text.contains(key), "{key} not named: {text}");
+    }
+    assert!(!text.contains("::") && !text.contains("CAPACITY"), "{text}");
 }
 
 #[test]
@@ -78,7 +128,32 @@ fn a_full_candidate_list_is_reported() {
         }
         other => panic!("wrong error: {other}"),
     }
-    assert!(error.to_string().contains("NEIGHBOUR_CAPACITY"), "{error}");
+    assert_names_what_to_change(&error);
+}
+
+#[test]
+fn a_full_incoming_list_is_reported() {
+    // The last monomer touched by INCOMING_CAPACITY + 1 monomers of lower index (more than
+    // equal spheres can touch one without overlapping each other).
+    let law = Config::default().contact_law();
+    let mut positions = shell(
+        INCOMING_CAPACITY + 1,
+        2.0 * law.radius - 0.5 * law.pair.delta0,
+    );
+    positions.push(DVec3::ZERO);
+    let Some(error) = gpu_error(positions, 32) else {
+        return;
+    };
+    match &error {
+        GpuError::IncomingOverflow { monomer, capacity } => {
+            assert_eq!(
+                (*monomer, *capacity),
+                (INCOMING_CAPACITY + 1, INCOMING_CAPACITY)
+            );
+        }
+        other => panic!("wrong error: {other}"),
+    }
+    assert_names_what_to_change(&error);
 }
 
 #[test]
@@ -96,10 +171,7 @@ fn a_full_cell_bucket_is_reported() {
         matches!(error, GpuError::BucketOverflow { .. }),
         "wrong error: {error}"
     );
-    assert!(
-        error.to_string().contains("DEFAULT_BUCKET_CAPACITY"),
-        "{error}"
-    );
+    assert_names_what_to_change(&error);
 }
 
 #[test]

@@ -1,6 +1,9 @@
 //! Checkpoints: an interrupted and resumed run is the run that was never interrupted, on the
 //! CPU reference and on the GPU engine (lavapipe in CI).
 
+mod common;
+
+use common::Scratch;
 use dustdem::backend::cpu::CpuEngine;
 use dustdem::backend::gpu::context::context_for_tests;
 use dustdem::backend::gpu::engine::GpuEngine;
@@ -8,7 +11,6 @@ use dustdem::binary::{Decoder, Encoder};
 use dustdem::config::Config;
 use dustdem::experiment::compression::Compression;
 use dustdem::state::State;
-use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -95,11 +97,8 @@ fn dustdem() -> Command {
     Command::new(env!("CARGO_BIN_EXE_dustdem"))
 }
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("dustdem-restart-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(name: &str) -> Scratch {
+    Scratch::new(&format!("restart-{name}"))
 }
 
 #[test]

@@ -12,6 +12,11 @@ use std::path::PathBuf;
     about = "Molecular dynamics of porous dust agglomerates"
 )]
 pub(super) struct Cli {
+    /// Let the libraries behind the GPU probe (Vulkan loader, Mesa's layers, drivers) print
+    /// on stderr; otherwise the probe gets a private XDG_RUNTIME_DIR where none is usable,
+    /// which keeps their display-related messages away.
+    #[arg(short, long, global = true)]
+    pub(super) verbose: bool,
     #[command(subcommand)]
     pub(super) command: Command,
 }

@@ -6,6 +6,7 @@ mod commands;
 mod progress;
 
 use crate::calibrate::synth::SynthSpec;
+use crate::job::{Backend, PrivateRuntimeDir};
 use args::{Cli, Command};
 use clap::Parser;
 use commands::{calibrate, fit, generate, info, resume, run, synth};
@@ -14,6 +15,15 @@ use std::process::ExitCode;
 /// Parses the command line and runs the command; errors are printed, exit status 2.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
+    // Only these look for a GPU (`--backend cpu` never does). Before any thread starts.
+    let probes = match &cli.command {
+        Command::Run { backend, .. } | Command::Resume { backend, .. } => *backend != Backend::Cpu,
+        Command::Info { .. } => true,
+        _ => false,
+    };
+    let _runtime_dir = (probes && !cli.verbose)
+        .then(PrivateRuntimeDir::ensure)
+        .flatten();
     let result = match cli.command {
         Command::Run {
             config,

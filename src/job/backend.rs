@@ -12,6 +12,10 @@ use crate::engine::EngineError;
 use crate::model::ContactLaw;
 use crate::state::{Monomers, Wall};
 
+/// The guard that keeps the GPU probe quiet (a private `XDG_RUNTIME_DIR` where none is usable);
+/// the command line takes it before it runs a command that looks for a GPU.
+pub use crate::backend::gpu::context::PrivateRuntimeDir;
+
 /// Which engine runs a compression.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Backend {

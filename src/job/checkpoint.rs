@@ -3,7 +3,7 @@
 //! snapshot of a failed state kept for inspection.
 
 use crate::binary::{DecodeError, Decoder, Encoder};
-use crate::config::{Config, SnapshotChoice};
+use crate::config::Config;
 use crate::engine::{Engine, EngineError};
 use crate::experiment::compression::{Compression, RunError};
 use crate::output::checkpoint::{read_checkpoint, write_checkpoint};
@@ -11,7 +11,7 @@ use crate::output::csv::CsvWriter;
 use crate::output::run_dir::{
     resolve_outputs, CHECKPOINT_FILE, FAILED_CHECKPOINT_FILE, OUTPUTS_BESIDE_CHECKPOINT,
 };
-use crate::output::snapshot::series::write_snapshot;
+use crate::output::snapshot::series::write_failed_snapshot;
 use crate::state::State;
 use std::path::{Path, PathBuf};
 
@@ -111,11 +111,8 @@ pub(super) fn keep_failed_state<E: Engine>(
             kept.push(checkpoint);
         }
     }
-    let choice = match config.output.snapshot_format {
-        SnapshotChoice::None => SnapshotChoice::Vtu,
-        c => c,
-    };
-    let snapshot = write_snapshot(out_dir, choice, &run.engine.state(), "_failed");
+    // A VTU whatever the run's snapshot format: it keeps NaN and inf as they are.
+    let snapshot = write_failed_snapshot(out_dir, &run.engine.state());
     if let Ok(files) = &snapshot {
         kept.extend(files.iter().cloned());
     }

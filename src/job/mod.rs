@@ -12,7 +12,7 @@ mod checkpoint;
 mod collision;
 mod figure;
 
-pub use backend::{gpu_report, reference_engine, Backend};
+pub use backend::{gpu_report, reference_engine, Backend, PrivateRuntimeDir};
 pub use checkpoint::{load_checkpoint, LoadedCheckpoint};
 pub use figure::{curve_plot, BLUM_SCHRAEPLER_2004_UNI, GUETTLER_2009_OMNI};
 

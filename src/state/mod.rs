@@ -46,7 +46,16 @@ pub struct State {
     /// rule). A device does not keep it: a state read back from one holds zeros here.
     pub wall_damping: Vec<DVec3>,
     pub step: u64,
+    /// Simulated time [s], [`simulated_time`] of `step`.
     pub time: f64,
+}
+
+/// Simulated time after `step` steps of `dt` [s]. The one definition of time: every engine
+/// keeps its clock with it, and every output that states a time (`time_s` in curve.csv and
+/// profiles.csv, snapshots and their `.pvd` series, the run summary) takes it from here, so
+/// the backends and a resumed run agree to the bit however their steps were batched.
+pub fn simulated_time(step: u64, dt: f64) -> f64 {
+    step as f64 * dt
 }
 
 impl State {

@@ -1,4 +1,5 @@
-//! Shared builders for the physics tests.
+//! Shared builders for the physics tests, and scratch directories for the tests that write
+//! files.
 #![allow(dead_code)]
 
 pub mod printed;
@@ -9,6 +10,47 @@ use dustdem::model::{ContactLaw, Damping, ModelOptions};
 use dustdem::state::Monomers;
 use dustdem::state::{DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
 use glam::DVec3;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// A fresh directory `dustdem-test-<pid>-<k>-<name>` in the system temp folder, removed with
+/// everything in it when dropped. A test that fails keeps it (its path goes to stderr), so
+/// what it wrote can be inspected.
+pub struct Scratch(PathBuf);
+
+impl Scratch {
+    pub fn new(name: &str) -> Scratch {
+        // Tests run on parallel threads and may share a name: a counter keeps them apart.
+        static NEXT: AtomicUsize = AtomicUsize::new(0);
+        let k = NEXT.fetch_add(1, Ordering::Relaxed);
+        let dir =
+            std::env::temp_dir().join(format!("dustdem-test-{}-{k}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        Scratch(dir)
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl std::ops::Deref for Scratch {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        if std::thread::panicking() {
+            eprintln!("kept for inspection: {}", self.0.display());
+        } else {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+}
 
 pub fn law_with(damping: Damping) -> ContactLaw {
     let options = ModelOptions {

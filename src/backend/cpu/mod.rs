@@ -14,7 +14,7 @@ pub mod walls;
 
 use crate::engine::{Engine, EngineError, SKIN_RADII};
 use crate::model::ContactLaw;
-use crate::state::{Dissipation, EnergyReport, Monomers, State, Wall};
+use crate::state::{simulated_time, Dissipation, EnergyReport, Monomers, State, Wall};
 use glam::DVec3;
 use neighbours::NeighbourList;
 use std::borrow::Cow;
@@ -183,7 +183,7 @@ impl CpuEngine {
         }
         s.tally.damping -= damping_work;
         s.step += 1;
-        s.time += dt;
+        s.time = simulated_time(s.step, dt);
         if s.step.is_multiple_of(64) {
             self.check_state()?;
         }
@@ -252,8 +252,8 @@ impl Engine for CpuEngine {
     fn step_count(&self) -> u64 {
         self.step
     }
-    fn time(&self) -> f64 {
-        self.time
+    fn dt(&self) -> f64 {
+        self.dt
     }
     fn advance(&mut self, steps: u64) -> Result<(), EngineError> {
         self.run(steps)

@@ -313,7 +313,8 @@ impl fmt::Display for SizeError {
             } => write!(
                 f,
                 "{monomers} monomers need {bytes} B in the `{name}` binding, the device allows \
-                 {limit} B per storage binding (lower N or [integration] pair_slots)"
+                 {limit} B per storage binding (lower [sample] monomers or [integration] pair_slots; \
+                 `dustdem info --monomers N` says what fits)"
             ),
             SizeError::StorageBuffers { needed, limit } => write!(
                 f,

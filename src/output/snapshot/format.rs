@@ -9,7 +9,7 @@ use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::validate::invalid;
-use super::{WallPlane, CM_PER_S_PER_M_PER_S, CM_TO_UM};
+use super::{Snapshot, WallPlane, CM_PER_S_PER_M_PER_S, CM_TO_UM};
 
 /// Distinguishes temporary files of concurrent writers within one process.
 pub(super) static TMP_COUNTER: AtomicU64 = AtomicU64::new(0);
@@ -170,12 +170,17 @@ pub(super) fn unit(v: [f64; 3]) -> [f64; 3] {
     }
 }
 
-/// Writes a `DataArray` of vectors, one tuple per line.
+/// Writes a `DataArray` of vectors, one tuple per line; in binary if any value is not finite
+/// (only a failed-state snapshot has such values, see [`super::write_failed_vtu`]).
 pub(super) fn vector_array<W: Write>(
     w: &mut W,
     name: &str,
     values: impl Iterator<Item = [f64; 3]>,
 ) -> io::Result<()> {
+    let values: Vec<[f64; 3]> = values.collect();
+    if !values.iter().flatten().all(|x| x.is_finite()) {
+        return binary_vector_array(w, name, &values);
+    }
     writeln!(
         w,
         r#"        <DataArray type="Float64" Name="{name}" NumberOfComponents="3" format="ascii">"#
@@ -184,6 +189,52 @@ pub(super) fn vector_array<W: Write>(
         writeln!(w, "          {}", V3(v))?;
     }
     writeln!(w, "        </DataArray>")
+}
+
+/// A `DataArray` of vectors as VTK's inline binary data: base64 of the byte count (UInt64,
+/// the file's `header_type`) followed by the values, little-endian, in one base64 stream.
+fn binary_vector_array<W: Write>(w: &mut W, name: &str, values: &[[f64; 3]]) -> io::Result<()> {
+    let mut bytes = Vec::with_capacity(8 + 24 * values.len());
+    bytes.extend_from_slice(&(24 * values.len() as u64).to_le_bytes());
+    for x in values.iter().flatten() {
+        bytes.extend_from_slice(&x.to_le_bytes());
+    }
+    writeln!(
+        w,
+        r#"        <DataArray type="Float64" Name="{name}" NumberOfComponents="3" format="binary">"#
+    )?;
+    writeln!(w, "          {}", base64(&bytes))?;
+    writeln!(w, "        </DataArray>")
+}
+
+/// Standard base64 (RFC 4648, with padding), as VTK's XML readers decode it.
+fn base64(bytes: &[u8]) -> String {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for chunk in bytes.chunks(3) {
+        let b = [
+            chunk[0],
+            chunk.get(1).copied().unwrap_or(0),
+            chunk.get(2).copied().unwrap_or(0),
+        ];
+        let v = u32::from(b[0]) << 16 | u32::from(b[1]) << 8 | u32::from(b[2]);
+        for k in 0..4 {
+            if k <= chunk.len() {
+                out.push(ALPHABET[(v >> (18 - 6 * k) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
+/// Whether monomer `i` of `s` has only finite position, velocity and angular velocity.
+pub(super) fn monomer_is_finite(s: &Snapshot, i: usize) -> bool {
+    [s.positions[i], s.velocities[i], s.angular_velocities[i]]
+        .iter()
+        .flatten()
+        .all(|x| x.is_finite())
 }
 
 /// Writes a single-component `DataArray`, a handful of values per line.

@@ -34,7 +34,7 @@ use dump::dump_body;
 use format::{unit, write_atomically, XmlAttr, F};
 use std::io::{self, Write};
 use std::path::Path;
-use validate::{invalid, validate_snapshot, validate_walls};
+use validate::{invalid, validate_snapshot, validate_walls, NonFinite};
 use vtp::{clip_plane_to_box, vtp_body, WallPolygon};
 use vtu::vtu_body;
 
@@ -122,7 +122,24 @@ impl SnapshotFormat {
 /// Refuses (with `InvalidInput`, before touching the file system) slices of different
 /// lengths, non-finite values, a non-positive radius and unusable walls.
 pub fn write_vtu(path: &Path, s: &Snapshot) -> io::Result<()> {
-    validate_snapshot(s)?;
+    validate_snapshot(s, NonFinite::Refuse)?;
+    write_atomically(path, |w| vtu_body(w, s))
+}
+
+/// Writes a state that a run-time guard stopped (a blow-up) as [`write_vtu`] does, but keeps
+/// non-finite positions, velocities and angular velocities as they are instead of refusing
+/// them, so that the state can be inspected in ParaView.
+///
+/// VTK's ASCII readers do not parse `nan` or `inf` tokens reliably, so each array that holds a
+/// non-finite value is written as inline binary data (`format="binary"`: base64 of a UInt64
+/// byte count and the little-endian f64 values, the file declaring `header_type="UInt64"`),
+/// which ParaView reads bit for bit, NaN and ±inf included; the other arrays stay ASCII. An
+/// extra point array `finite` (UInt8) is 0 for the monomers holding a non-finite value
+/// (threshold on it to find them) and an XML comment says so.
+///
+/// Everything else is checked as by [`write_vtu`]: lengths, time, radius and walls.
+pub fn write_failed_vtu(path: &Path, s: &Snapshot) -> io::Result<()> {
+    validate_snapshot(s, NonFinite::Keep)?;
     write_atomically(path, |w| vtu_body(w, s))
 }
 
@@ -143,7 +160,7 @@ pub fn write_vtu(path: &Path, s: &Snapshot) -> io::Result<()> {
 /// the last line of the file. Readers that expect every header line at a fixed position
 /// cannot read these files, but they cannot read LAMMPS's own `ITEM: TIME` either.
 pub fn write_lammps_dump(path: &Path, s: &Snapshot) -> io::Result<()> {
-    validate_snapshot(s)?;
+    validate_snapshot(s, NonFinite::Refuse)?;
     write_atomically(path, |w| dump_body(w, s))
 }
 

@@ -9,10 +9,18 @@ pub(super) fn invalid(msg: String) -> io::Error {
     io::Error::new(io::ErrorKind::InvalidInput, msg)
 }
 
+/// What validation does with non-finite monomer values.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(super) enum NonFinite {
+    Refuse,
+    /// The failed-state snapshot: kept, written in binary (see [`super::write_failed_vtu`]).
+    Keep,
+}
+
 /// Everything is checked before the temporary file is created, so that a refused snapshot
 /// leaves nothing behind and the error names the offending monomer rather than surfacing as
 /// an unreadable `NaN` in a viewer.
-pub(super) fn validate_snapshot(s: &Snapshot) -> io::Result<()> {
+pub(super) fn validate_snapshot(s: &Snapshot, non_finite: NonFinite) -> io::Result<()> {
     let n = s.positions.len();
     for (what, len) in [
         ("velocities", s.velocities.len()),
@@ -38,7 +46,7 @@ pub(super) fn validate_snapshot(s: &Snapshot) -> io::Result<()> {
             s.step, s.radius
         )));
     }
-    for i in 0..n {
+    for i in (0..n).filter(|_| non_finite == NonFinite::Refuse) {
         let checks = [
             ("position", s.positions[i], CM_TO_UM),
             ("velocity", s.velocities[i], 1.0 / CM_PER_S_PER_M_PER_S),

@@ -7,6 +7,17 @@ use std::io::{self, Write};
 pub(super) fn vtu_body<W: Write>(w: &mut W, s: &Snapshot) -> io::Result<()> {
     let n = s.positions.len();
     let r_um = s.radius * CM_TO_UM;
+    // Only a failed-state snapshot gets this far with non-finite values (write_failed_vtu).
+    // The conversions to µm and m/s can overflow finite values too; those count as well.
+    let finite: Vec<bool> = (0..n)
+        .map(|i| {
+            monomer_is_finite(s, i)
+                && scale(s.positions[i], CM_TO_UM)
+                    .iter()
+                    .all(|x| x.is_finite())
+        })
+        .collect();
+    let all_finite = finite.iter().all(|&f| f);
     writeln!(w, r#"<?xml version="1.0"?>"#)?;
     writeln!(
         w,
@@ -24,10 +35,23 @@ pub(super) fn vtu_body<W: Write>(w: &mut W, s: &Snapshot) -> io::Result<()> {
         "     id = monomer index + 1, the same id as in the LAMMPS dump"
     )?;
     wall_comment(w, s.walls, "     ")?;
+    if !all_finite {
+        writeln!(
+            w,
+            "     failed state: {} of {n} monomers hold a non-finite value (NaN or inf); arrays \
+             holding one are in binary, and point array finite = 0 marks those monomers",
+            finite.iter().filter(|&&f| !f).count()
+        )?;
+    }
     writeln!(w, "-->")?;
     writeln!(
         w,
-        r#"<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian">"#
+        r#"<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian"{}>"#,
+        if all_finite {
+            ""
+        } else {
+            r#" header_type="UInt64""#
+        }
     )?;
     writeln!(w, "  <UnstructuredGrid>")?;
 
@@ -80,6 +104,9 @@ pub(super) fn vtu_body<W: Write>(w: &mut W, s: &Snapshot) -> io::Result<()> {
     vector_array(w, "angular_velocity", s.angular_velocities.iter().copied())?;
     scalar_array(w, "Float64", "radius", (0..n).map(|_| F(r_um)))?;
     scalar_array(w, "UInt32", "contacts", s.contacts.iter())?;
+    if !all_finite {
+        scalar_array(w, "UInt8", "finite", finite.iter().map(|&f| u8::from(f)))?;
+    }
     writeln!(w, "      </PointData>")?;
     writeln!(w, "      <Points>")?;
     vector_array(

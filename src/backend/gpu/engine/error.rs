@@ -42,23 +42,31 @@ impl fmt::Display for GpuError {
             GpuError::Engine(e) => write!(f, "{e}"),
             GpuError::BucketOverflow { monomer, capacity } => write!(
                 f,
-                "monomer {monomer} found its cell-table bucket full ({capacity} ids); monomers \
-                 overlap far beyond contact, or raise gpu::buffers::DEFAULT_BUCKET_CAPACITY"
+                "monomer {monomer} found its cell of the GPU's cell table full ({capacity} \
+                 monomers); {OVERLAP_ADVICE}"
             ),
             GpuError::NeighbourOverflow { monomer, capacity } => write!(
                 f,
                 "monomer {monomer} has more than {capacity} candidate partners within 2r + skin \
-                 (gpu::layout::NEIGHBOUR_CAPACITY); monomers overlap far beyond contact"
+                 on the GPU; {OVERLAP_ADVICE}"
             ),
             GpuError::DeviceLost(why) => write!(f, "the GPU failed: {why}"),
             GpuError::IncomingOverflow { monomer, capacity } => write!(
                 f,
                 "monomer {monomer} has more than {capacity} contacts with lower-index monomers \
-                 (gpu::layout::INCOMING_CAPACITY); monomers overlap far beyond contact"
+                 on the GPU; {OVERLAP_ADVICE}"
             ),
         }
     }
 }
+
+/// What the fixed per-monomer lists of the GPU engine that have no config key (cell-table
+/// buckets, candidate lists, incoming contacts) overflowing means, and what to change. Each
+/// holds more than equal spheres that do not overlap can ever need (at most 12 touch one), so
+/// only a state that has gone wrong fills one.
+const OVERLAP_ADVICE: &str = "monomers overlap far beyond contact, more than equal spheres \
+     ever need: lower [integration] dt_ns to within the stability limit (`dustdem info` prints \
+     it) or [experiment] wall_speed_m_s, or remove overlapping monomers from the [sample] file";
 
 impl std::error::Error for GpuError {}
 

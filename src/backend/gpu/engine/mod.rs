@@ -23,7 +23,9 @@ use super::kernels::{Kernel, Kernels};
 use super::layout::{self, GpuConstants, GpuDamping, GpuParams};
 use crate::engine::{Engine, EngineError, SKIN_RADII};
 use crate::model::ContactLaw;
-use crate::state::{ContactTable, Dissipation, EnergyReport, Monomers, State, Wall};
+use crate::state::{
+    simulated_time, ContactTable, Dissipation, EnergyReport, Monomers, State, Wall,
+};
 use glam::DVec3;
 use std::borrow::Cow;
 
@@ -63,6 +65,7 @@ pub struct GpuEngine {
     /// One per entry point, in kernels::ENTRY_POINTS order.
     bind_groups: Vec<wgpu::BindGroup>,
     pub step: u64,
+    /// Simulated time [s], [`simulated_time`] of `step`.
     pub time: f64,
     /// Steps per submission and between reads of the small block.
     pub readback_every: u64,
@@ -192,7 +195,7 @@ impl GpuEngine {
             state.walls.clone(),
         )?;
         engine.step = state.step;
-        engine.time = state.time;
+        engine.time = simulated_time(state.step, state.dt);
         engine.totals[..7].copy_from_slice(&state.tally.channels());
         engine.totals[7] = state.wall_work;
         engine.read_small()?;
@@ -267,8 +270,8 @@ impl Engine for GpuEngine {
     fn step_count(&self) -> u64 {
         self.step
     }
-    fn time(&self) -> f64 {
-        self.time
+    fn dt(&self) -> f64 {
+        self.dt
     }
     fn advance(&mut self, steps: u64) -> Result<(), EngineError> {
         Ok(GpuEngine::run(self, steps)?)

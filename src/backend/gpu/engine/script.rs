@@ -3,6 +3,7 @@
 
 use super::{groups, GpuEngine, GpuError};
 use crate::backend::gpu::kernels::Kernel;
+use crate::state::simulated_time;
 use glam::DVec3;
 
 impl GpuEngine {
@@ -126,7 +127,7 @@ impl GpuEngine {
             }
         }
         self.step += steps;
-        self.time += steps as f64 * self.dt;
+        self.time = simulated_time(self.step, self.dt);
         self.read_small()?;
         self.clear_wall_force_sum();
         Ok(())
