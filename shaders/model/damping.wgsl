@@ -1,7 +1,7 @@
 // Normal damping along the contact normal: F_damp = −c v_rel n_c. Twin of src/model/damping.rs.
 
 // Damping::kind values; the host encodes its `Damping` enum with the same numbers
-// (src/gpu/layout.rs).
+// (src/backend/gpu/layout.rs).
 const DAMPING_NONE: u32 = 0u;
 const DAMPING_VISCOUS: u32 = 1u;
 const DAMPING_VISCOELASTIC: u32 = 2u;

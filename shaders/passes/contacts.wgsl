@@ -1,6 +1,6 @@
 // requires: bindings cells owner interaction wall rolling sliding twisting math
 //
-// Contact maintenance pass, twin of update_contacts in src/cpu/contacts.rs: breaks stretched
+// Contact maintenance pass, twin of contacts in src/backend/cpu/contacts.rs: breaks stretched
 // contacts (δ < −δ_c) and forms new ones (δ ≥ 0), keeping the history of every contact that
 // persists. One invocation per owner: it alone writes the owner's slots, so no two invocations
 // touch the same contact. Few owners have an event in a step, so a scan lists them and the
@@ -226,7 +226,7 @@ fn contact_events(i: u32) {
 }
 
 // Contacts present at the start are part of the initial state, not a dissipation
-// (CpuEngine::new resets the tally after its first update_contacts).
+// (CpuEngine::new resets the tally after its first contacts pass).
 @compute @workgroup_size(MONOMER_GROUP)
 fn contacts_clear_tally(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
@@ -239,7 +239,7 @@ fn contacts_clear_tally(@builtin(global_invocation_id) id: vec3<u32>) {
 }
 
 // The tests of contacts_scan for every listed pair contact, on the state as it is: after an
-// upload, where no integrate_pairs ran since the bits were cleared (gpu::engine::upload).
+// upload, where no integrate_pairs ran since the bits were cleared (backend::gpu::engine::upload).
 @compute @workgroup_size(PAIR_GROUP)
 fn contacts_pair_tests(
     @builtin(global_invocation_id) id: vec3<u32>,

@@ -1,6 +1,6 @@
 // requires: bindings owner interaction rolling sliding twisting math
 //
-// Monomer–monomer force pass, twin of pair_forces in src/cpu/forces.rs: inelastic corrections
+// Monomer–monomer force pass, twin of forces in src/backend/cpu/forces.rs: inelastic corrections
 // first (booked per channel as the drop of the contact's step energy), then JKR, damping,
 // rolling, sliding and twisting.
 //

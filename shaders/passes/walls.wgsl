@@ -1,11 +1,12 @@
 // requires: bindings owner interaction wall twisting math
 //
-// Monomer–wall force pass, twin of wall_forces in src/cpu/walls.rs: the contacts pass evaluates
-// the wall contacts of the monomers that have any (wall_contacts_of in engine/owner.wgsl), and
-// wall_forces gathers per
-// monomer the forces pass's per-contact results (pair_forces' sums on the CPU), then the wall
-// contacts' results, then does the step's work bookkeeping (the trapezoid sums of
-// CpuEngine::step); its first invocations also sum the wall forces per block (reduce_walls).
+// Monomer–wall force pass, twin of wall_forces in src/backend/cpu/walls.rs: the contacts pass
+// evaluates the wall contacts of the monomers that have any (wall_contacts_of in
+// engine/owner.wgsl), and wall_forces gathers per monomer the forces pass's per-contact results
+// (the sums of `forces` in src/backend/cpu/forces.rs), then the wall contacts' results, then
+// does the step's work bookkeeping (the trapezoid sums of CpuEngine::step in
+// src/backend/cpu/mod.rs); its first invocations also sum the wall forces per block
+// (reduce_walls, whose twin is in src/state/reduction.rs).
 //
 // Gather order equals the CPU's: a monomer's force starts at zero, takes −F of every contact it
 // is the partner of in increasing owner index (the CPU visits owners in index order), then +F

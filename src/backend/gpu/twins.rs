@@ -1,13 +1,16 @@
 //! "One definition, two twins": each `shaders/model/<m>.wgsl` mirrors `src/model/<m>.rs`
-//! function for function and constant for constant. These tests hold the two in step without a
-//! GPU; the probe test (tests/gpu_contact_law_probe.rs) holds their results in step on one.
+//! function for function and constant for constant, and every entry point of
+//! `shaders/passes/` has a CPU function of the same name or is a GPU-only pass that a named
+//! test holds to the CPU's end state (DESIGN.md, "The twins"). These tests hold the two sides in
+//! step without a GPU; the probe test (tests/gpu_contact_law_probe.rs) and the per-pass parity
+//! tests (tests/gpu_passes.rs) hold their results in step on one.
 
 use super::layout;
-use super::shader::{assemble, Source, MODEL};
+use super::shader::{assemble, Source, MODEL, PASSES};
 use crate::model::normal;
 use std::collections::BTreeSet;
 
-/// Shared modules with no file in `src/model/`: `math` mirrors glam's DVec3 methods.
+/// Model modules with no file in `src/model/`: `math` mirrors glam's DVec3 methods.
 const NOT_IN_MODEL: &[&str] = &["math"];
 
 /// Names of the functions declared at the start of a line as `<prefix>name(`.
@@ -217,4 +220,126 @@ fn damping_tags_and_layout_match_the_host_encoding() {
     assert_eq!(span as usize, std::mem::size_of::<layout::GpuDamping>());
     assert_eq!(std::mem::offset_of!(layout::GpuDamping, kind), 0);
     assert_eq!(std::mem::offset_of!(layout::GpuDamping, value), 8);
+}
+
+/// Where the CPU twins of the entry points are: the CPU backend's passes, and the fixed
+/// reduction order in the state.
+const CPU_TWIN_FILES: &[&str] = &[
+    "src/backend/cpu/integrate.rs",
+    "src/backend/cpu/neighbours.rs",
+    "src/backend/cpu/contacts.rs",
+    "src/backend/cpu/forces.rs",
+    "src/backend/cpu/walls.rs",
+    "src/state/reduction.rs",
+];
+
+/// Entry points with no CPU function of the same name, and the test (file, function) that
+/// holds what each leaves on the device to the CPU's end state. DESIGN.md ("The twins") says
+/// why each has none.
+const GPU_ONLY: &[(&str, &str, &str)] = &[
+    (
+        "integrate_kick_with_wall_sums",
+        "tests/gpu_passes.rs",
+        "a_submission_of_several_steps_is_the_same_steps_one_by_one",
+    ),
+    (
+        "integrate_start",
+        "tests/gpu_trajectory.rs",
+        "a_200_monomer_aggregate_between_walls_follows_the_cpu",
+    ),
+    (
+        "integrate_clear_work",
+        "tests/gpu_trajectory.rs",
+        "a_200_monomer_aggregate_between_walls_follows_the_cpu",
+    ),
+    (
+        "neighbours",
+        "tests/gpu_passes.rs",
+        "contacts_match_their_cpu_twin",
+    ),
+    (
+        "neighbours_list",
+        "tests/gpu_passes.rs",
+        "contacts_match_their_cpu_twin",
+    ),
+    (
+        "contacts_scan",
+        "tests/gpu_passes.rs",
+        "contacts_match_their_cpu_twin",
+    ),
+    (
+        "contacts_clear_tally",
+        "tests/gpu_trajectory.rs",
+        "a_200_monomer_aggregate_between_walls_follows_the_cpu",
+    ),
+    (
+        "contacts_pair_tests",
+        "tests/gpu_passes.rs",
+        "contacts_match_their_cpu_twin",
+    ),
+    (
+        "forces_corrections",
+        "tests/gpu_passes.rs",
+        "forces_and_walls_match_their_cpu_twins",
+    ),
+    (
+        "wall_contacts",
+        "tests/gpu_passes.rs",
+        "forces_and_walls_match_their_cpu_twins",
+    ),
+    (
+        "reduce_walls_final",
+        "tests/gpu_passes.rs",
+        "reductions_match_their_cpu_twin_to_the_bit",
+    ),
+];
+
+/// Names of the functions marked `@compute` in `text`.
+fn entry_points(text: &str) -> Vec<String> {
+    let mut names = Vec::new();
+    let mut lines = text.lines();
+    while let Some(line) = lines.next() {
+        if line.trim_start().starts_with("@compute") {
+            let declaration = lines.find(|l| l.trim_start().starts_with("fn ")).unwrap();
+            names.extend(declared(declaration.trim_start(), "fn "));
+        }
+    }
+    names
+}
+
+fn read(path: &str) -> String {
+    let full = format!("{}/{path}", env!("CARGO_MANIFEST_DIR"));
+    std::fs::read_to_string(&full).unwrap_or_else(|e| panic!("{full}: {e}"))
+}
+
+#[test]
+fn every_entry_point_has_a_cpu_twin_or_a_parity_test() {
+    let cpu: BTreeSet<String> = CPU_TWIN_FILES
+        .iter()
+        .flat_map(|f| declared(&read(f), "pub fn "))
+        .collect();
+    let entries: Vec<String> = PASSES.iter().flat_map(|p| entry_points(p.text)).collect();
+    assert!(entries.len() >= 18, "{entries:?}");
+    let mut wrong = Vec::new();
+    for name in &entries {
+        let gpu_only = GPU_ONLY.iter().find(|(n, _, _)| n == name);
+        match (cpu.contains(name), gpu_only) {
+            (true, None) => {}
+            (false, Some((_, file, test))) => {
+                if !read(file).contains(&format!("fn {test}(")) {
+                    wrong.push(format!("{name}: {file} has no test {test}"));
+                }
+            }
+            (true, Some(_)) => wrong.push(format!("{name} has a CPU twin: not GPU-only")),
+            (false, None) => wrong.push(format!(
+                "{name}: no `pub fn {name}(` in {CPU_TWIN_FILES:?} and not listed in GPU_ONLY"
+            )),
+        }
+    }
+    for (name, _, _) in GPU_ONLY {
+        if !entries.contains(&name.to_string()) {
+            wrong.push(format!("GPU_ONLY lists {name}, which is no entry point"));
+        }
+    }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }
