@@ -1,67 +1,36 @@
 //! Deterministic pseudo-random numbers.
 //!
-//! The generator is xoshiro256** (Blackman & Vigna, <https://prng.di.unimi.it/>),
-//! whose 256-bit state is filled with four consecutive outputs of SplitMix64
-//! started at the seed, as the xoshiro authors recommend. Both algorithms are
-//! fixed here on purpose: a sample is identified by its seed, so the stream
-//! for a seed must never change between versions or platforms.
+//! The generator is xoshiro256** (Blackman & Vigna, <https://prng.di.unimi.it/>)
+//! from `rand_xoshiro`, whose 256-bit state is filled with four consecutive
+//! outputs of SplitMix64 started at the seed, as the xoshiro authors recommend
+//! (`seed_from_u64` does exactly that). A sample is identified by its seed, so
+//! the stream for a seed must never change between versions or platforms: the
+//! unit tests below pin the seeding and the reference outputs, and
+//! `tests/rng_stream.rs` pins whole sample files byte for byte.
 
-/// Increment of the SplitMix64 counter (the golden-ratio constant).
-const SPLITMIX_GAMMA: u64 = 0x9e37_79b9_7f4a_7c15;
+use rand_xoshiro::rand_core::{Rng as _, SeedableRng};
+use rand_xoshiro::Xoshiro256StarStar;
 
-/// One SplitMix64 step: advances `state` and returns the next output.
-fn splitmix64(state: &mut u64) -> u64 {
-    *state = state.wrapping_add(SPLITMIX_GAMMA);
-    let mut z = *state;
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
-}
-
-/// xoshiro256** generator seeded through SplitMix64.
+/// xoshiro256** generator seeded through SplitMix64, with the derived draws
+/// (uniform floats, Box–Muller normals) the samplers use.
 ///
 /// Not cryptographic. Every method consumes a fixed number of 64-bit outputs
 /// (`normal` takes two, the others one), so streams stay aligned whatever the
 /// mix of calls.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Rng {
-    s: [u64; 4],
-}
+pub struct Rng(Xoshiro256StarStar);
 
 impl Rng {
     /// Generator whose state is the first four SplitMix64 outputs for `seed`.
     pub fn new(seed: u64) -> Rng {
-        let mut sm = seed;
-        let s = [
-            splitmix64(&mut sm),
-            splitmix64(&mut sm),
-            splitmix64(&mut sm),
-            splitmix64(&mut sm),
-        ];
         // Four consecutive SplitMix64 outputs are distinct, so the state is
         // never all zero (the one state xoshiro cannot leave).
-        Rng { s }
-    }
-
-    /// Generator with a raw state, to check against published reference outputs.
-    #[cfg(test)]
-    fn from_state(s: [u64; 4]) -> Rng {
-        assert!(s != [0; 4], "xoshiro256** state must not be all zero");
-        Rng { s }
+        Rng(Xoshiro256StarStar::seed_from_u64(seed))
     }
 
     /// Next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
-        let s = &mut self.s;
-        let result = s[1].wrapping_mul(5).rotate_left(7).wrapping_mul(9);
-        let t = s[1] << 17;
-        s[2] ^= s[0];
-        s[3] ^= s[1];
-        s[1] ^= s[2];
-        s[0] ^= s[3];
-        s[2] ^= t;
-        s[3] = s[3].rotate_left(45);
-        result
+        self.0.next_u64()
     }
 
     /// Uniform in [0, 1): the top 53 bits scaled by 2^-53, so every value is
@@ -94,10 +63,21 @@ impl Rng {
 mod tests {
     use super::*;
 
+    use rand_xoshiro::SplitMix64;
+
+    /// Generator with a raw state, to check against published reference outputs.
+    fn from_state(s: [u64; 4]) -> Rng {
+        let mut seed = [0u8; 32];
+        for (chunk, word) in seed.chunks_exact_mut(8).zip(s) {
+            chunk.copy_from_slice(&word.to_le_bytes());
+        }
+        Rng(Xoshiro256StarStar::from_seed(seed))
+    }
+
     #[test]
     fn splitmix64_matches_reference() {
         // SplitMix64 (Steele, Lea & Flood 2014) started at 0.
-        let mut state = 0;
+        let mut sm = SplitMix64::seed_from_u64(0);
         let expected = [
             0xe220_a839_7b1d_cdaf,
             0x6e78_9e6a_a1b9_65f4,
@@ -105,14 +85,23 @@ mod tests {
             0xf88b_b8a8_724c_81ec,
         ];
         for e in expected {
-            assert_eq!(splitmix64(&mut state), e);
+            assert_eq!(sm.next_u64(), e);
+        }
+    }
+
+    #[test]
+    fn seeding_takes_four_splitmix64_outputs() {
+        for seed in [0, 1, 7, 42, u64::MAX] {
+            let mut sm = SplitMix64::seed_from_u64(seed);
+            let state = [sm.next_u64(), sm.next_u64(), sm.next_u64(), sm.next_u64()];
+            assert_eq!(Rng::new(seed), from_state(state), "seed {seed}");
         }
     }
 
     #[test]
     fn xoshiro256starstar_matches_reference() {
         // Reference outputs of xoshiro256** from the state {1, 2, 3, 4}.
-        let mut rng = Rng::from_state([1, 2, 3, 4]);
+        let mut rng = from_state([1, 2, 3, 4]);
         let expected = [
             11520,
             0,

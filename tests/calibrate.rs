@@ -399,6 +399,12 @@ fn synth_and_calibrate_from_the_command_line() {
     for f in ["report.md", "calibration.png", "corrected.toml"] {
         assert!(report.join(f).is_file(), "{f}");
     }
+    // A panel per sticking velocity (the file was given twice), no SVG without a compression
+    // curve.
+    let png = std::fs::read(report.join("calibration.png")).unwrap();
+    let reader = png::Decoder::new(png.as_slice()).read_info().unwrap();
+    assert_eq!((reader.info().width, reader.info().height), (2 * 560, 420));
+    assert!(!report.join("curve_1.svg").exists());
     let corrected = Config::load(&report.join("corrected.toml")).unwrap();
     assert!(
         corrected.model.damping != base().model.damping

@@ -135,7 +135,10 @@ fn slow_pull_apart_peaks_at_f_c_and_breaks_at_minus_delta_c() {
     }
     let rel_fc = max_tension / k.f_c - 1.0;
     eprintln!("pull-apart: max tension {max_tension:.6e} dyn vs F_c {:.6e} ({rel_fc:.2e}); last overlap {:.6} δ_c", k.f_c, last_overlap / k.delta_c);
-    assert!(rel_fc.abs() < 0.005);
+    // The peak of F on the stable branch is F_c at a/a₀ = 1/4^(1/3) (dF/dx = 0), and the pull
+    // passes δ = δ₀(3x² − 2√x) there at 1e-5 δ₀ per step, so the sampled maximum misses it
+    // only at second order: measured −7.4e-14. Bound 1e-12.
+    assert!(rel_fc.abs() < 1e-12);
     let broken_at = 2.0 * law.radius - (e.monomers.position[1] - e.monomers.position[0]).length();
     assert!(last_overlap >= -k.delta_c && broken_at < -k.delta_c);
     assert!((broken_at + k.delta_c).abs() < 2.0 * speed * dt);

@@ -1,10 +1,10 @@
-//! The calibration's figures: `calibration.png` (every curve, measured vs baseline vs
-//! corrected, drawn on the built-in raster) and one SVG per compression curve.
+//! The calibration's figures: one panel per compression curve and per sticking velocity
+//! (measured with 1σ bars, baseline and corrected model), drawn through `output::plot` into
+//! `calibration.png` and one SVG per compression curve.
 
 use super::gap::{targets, Prediction};
-use super::raster::{draw_panel, Canvas, Mark, Panel, PanelSeries, BLACK, BLUE, RED};
 use super::workflow::Calibration;
-use crate::output::plot::{Plot, Series, Style};
+use crate::output::plot::{Plot, Series, Style, BLACK, PALETTE};
 
 fn compression_points(p: &[f64], prediction: &Prediction) -> Vec<(f64, f64, f64)> {
     match prediction {
@@ -25,123 +25,65 @@ fn sticking_velocity(prediction: &Prediction) -> f64 {
     }
 }
 
-/// One panel per compression curve and one for the sticking velocities, side by side.
-pub fn plot_png(cal: &Calibration) -> Canvas {
+/// One panel per compression curve and one per sticking velocity: baseline and corrected
+/// model under the measured points (with 1σ bars); side by side in `calibration.png`.
+pub fn plot_panels(cal: &Calibration) -> Vec<Plot> {
     let m = &cal.measured;
     let targets = targets(m);
+    let model = |baseline: Vec<(f64, f64)>, corrected: Vec<(f64, f64)>, names: bool| {
+        let name = |s: &str| if names { s.to_string() } else { String::new() };
+        [
+            Series::new(name("baseline"), baseline, Style::Dashed).color(PALETTE[1]),
+            Series::new(name("corrected"), corrected, Style::Line).color(PALETTE[0]),
+        ]
+    };
     let mut panels = Vec::new();
     for (k, curve) in m.compression.iter().enumerate() {
-        panels.push(Panel {
-            title: curve.name.clone(),
-            x_label: "P (Pa)".into(),
-            y_label: "phi".into(),
-            x_log: true,
-            categories: Vec::new(),
-            series: vec![
-                PanelSeries {
-                    label: "measured".into(),
-                    colour: BLACK,
-                    mark: Mark::ErrorBars,
-                    points: curve
-                        .pressure
-                        .iter()
-                        .zip(&curve.phi)
-                        .zip(&curve.phi_sigma)
-                        .map(|((&p, &v), &s)| (p, v, s))
-                        .collect(),
-                },
-                PanelSeries {
-                    label: "baseline".into(),
-                    colour: RED,
-                    mark: Mark::Line,
-                    points: compression_points(&targets[k], &cal.baseline[k]),
-                },
-                PanelSeries {
-                    label: "corrected".into(),
-                    colour: BLUE,
-                    mark: Mark::Line,
-                    points: compression_points(&targets[k], &cal.final_predictions[k]),
-                },
-            ],
-        });
+        let xy = |pts: Vec<(f64, f64, f64)>| pts.into_iter().map(|p| (p.0, p.1)).collect();
+        let mut measured = Series::new(
+            "measured",
+            curve
+                .pressure
+                .iter()
+                .copied()
+                .zip(curve.phi.clone())
+                .collect(),
+            Style::ErrorBars,
+        );
+        measured.sigma = curve.phi_sigma.clone();
+        let mut plot = Plot::new(&curve.name, "pressure P [Pa]", "filling factor φ");
+        plot.x_log = true;
+        plot.series = model(
+            xy(compression_points(&targets[k], &cal.baseline[k])),
+            xy(compression_points(&targets[k], &cal.final_predictions[k])),
+            true,
+        )
+        .into();
+        plot.series.push(measured.color(BLACK));
+        panels.push(plot);
     }
     let n = m.compression.len();
     for (k, stick) in m.sticking.iter().enumerate() {
-        let at = |x: f64, v: f64| vec![(x, v, 0.0)];
-        panels.push(Panel {
-            title: stick.name.clone(),
-            x_label: String::new(),
-            y_label: "v stick (m/s)".into(),
-            x_log: false,
-            categories: vec!["measured".into(), "baseline".into(), "corrected".into()],
-            series: vec![
-                PanelSeries {
-                    label: "measured".into(),
-                    colour: BLACK,
-                    mark: Mark::ErrorBars,
-                    points: vec![(1.0, stick.velocity, stick.sigma)],
-                },
-                PanelSeries {
-                    label: "baseline".into(),
-                    colour: RED,
-                    mark: Mark::Line,
-                    points: at(2.0, sticking_velocity(&cal.baseline[n + k])),
-                },
-                PanelSeries {
-                    label: "corrected".into(),
-                    colour: BLUE,
-                    mark: Mark::Line,
-                    points: at(3.0, sticking_velocity(&cal.final_predictions[n + k])),
-                },
-            ],
-        });
+        let mut measured = Series::new("", vec![(1.0, stick.velocity)], Style::ErrorBars);
+        measured.sigma = vec![stick.sigma];
+        let mut plot = Plot::new(&stick.name, "", "sticking speed v [m/s]");
+        plot.x_range = Some((0.5, 3.5));
+        plot.x_ticks = ["measured", "baseline", "corrected"]
+            .into_iter()
+            .enumerate()
+            .map(|(k, name)| (k as f64 + 1.0, name.to_string()))
+            .collect();
+        plot.series = model(
+            vec![(2.0, sticking_velocity(&cal.baseline[n + k]))],
+            vec![(3.0, sticking_velocity(&cal.final_predictions[n + k]))],
+            false,
+        )
+        .into();
+        plot.series.push(measured.color(BLACK));
+        panels.push(plot);
     }
-    let (w, h) = (560.0, 420.0);
-    let mut canvas = Canvas::new((w as usize) * panels.len().max(1), h as usize);
-    for (k, panel) in panels.iter().enumerate() {
-        draw_panel(&mut canvas, panel, k as f64 * w, 0.0, w, h);
+    for p in &mut panels {
+        (p.width, p.height) = (560, 420);
     }
-    canvas
-}
-
-/// The same comparison as labelled SVG (system fonts), one per compression curve.
-pub fn plot_svgs(cal: &Calibration) -> Vec<String> {
-    let targets = targets(&cal.measured);
-    cal.measured
-        .compression
-        .iter()
-        .enumerate()
-        .map(|(k, curve)| {
-            let xy = |pts: Vec<(f64, f64, f64)>| pts.into_iter().map(|p| (p.0, p.1)).collect();
-            let mut plot = Plot::new(
-                format!("{}: measured, baseline, corrected", curve.name),
-                "P [Pa]",
-                "filling factor φ",
-            );
-            plot.x_log = true;
-            plot.series = vec![
-                Series::new(
-                    "measured",
-                    curve
-                        .pressure
-                        .iter()
-                        .copied()
-                        .zip(curve.phi.clone())
-                        .collect(),
-                    Style::Markers,
-                ),
-                Series::new(
-                    "baseline",
-                    xy(compression_points(&targets[k], &cal.baseline[k])),
-                    Style::Line,
-                ),
-                Series::new(
-                    "corrected",
-                    xy(compression_points(&targets[k], &cal.final_predictions[k])),
-                    Style::Dashed,
-                ),
-            ];
-            plot.to_svg()
-        })
-        .collect()
+    panels
 }

@@ -4,15 +4,14 @@
 //! `measured` reads the data, `effects` maps named one-parameter effects onto the config,
 //! `simulate` makes (and caches) the runs, `gap` measures the difference and its noise,
 //! `attribution` fits one effect at a time and decides, `workflow` runs the add-and-rerun
-//! loop, `synth` writes measured-like data from the simulator, and `report`, `figures` and
-//! `raster` write the Markdown report, plots and the corrected config.
+//! loop, `synth` writes measured-like data from the simulator, and `report` writes the
+//! Markdown report and the corrected config, `figures` the plots (drawn through `output::plot`).
 
 pub mod attribution;
 pub mod effects;
 pub mod figures;
 pub mod gap;
 pub mod measured;
-pub mod raster;
 pub mod report;
 pub mod simulate;
 pub mod synth;

@@ -1,13 +1,13 @@
 //! What a calibration writes: `report.md` (the gap, where it is, every effect's fit, the
 //! decision), `calibration.png` and one SVG per compression curve (measured vs baseline vs
-//! corrected), and `corrected.toml` (the config with the named effects applied). The figures
-//! themselves are drawn in `figures`.
+//! corrected), and `corrected.toml` (the config with the named effects applied).
 
 use super::attribution::Decision;
-use super::figures::{plot_png, plot_svgs};
+use super::figures::plot_panels;
 use super::gap::{chi2_quantile_95, CurveGap, Gap};
 use super::workflow::{describe_decision, Calibration};
 use crate::output::atomic::write_atomic;
+use crate::output::plot::panels_png;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -87,12 +87,18 @@ pub fn write_outputs(
         CORRECTED_FILE,
         corrected_config(cal, measured, config_path).as_bytes(),
     )?);
-    let png = plot_png(cal)
-        .to_png()
-        .map_err(|e| format!("{PLOT_FILE}: {e}"))?;
+    let panels = plot_panels(cal);
+    let png = panels_png(&panels).map_err(|e| format!("{PLOT_FILE}: {e}"))?;
     files.push(write(PLOT_FILE, &png)?);
-    for (k, svg) in plot_svgs(cal).into_iter().enumerate() {
-        files.push(write(&format!("curve_{}.svg", k + 1), svg.as_bytes())?);
+    // The compression panels again, one SVG each.
+    for (k, panel) in panels
+        .iter()
+        .take(cal.measured.compression.len())
+        .enumerate()
+    {
+        let name = format!("curve_{}.svg", k + 1);
+        let svg = panel.to_svg().map_err(|e| format!("{name}: {e}"))?;
+        files.push(write(&name, svg.as_bytes())?);
     }
     files.push(write(
         REPORT_FILE,

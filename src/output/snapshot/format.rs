@@ -1,71 +1,22 @@
-//! Atomic writing (temporary file, fsync, rename) and the number, vector and XML formatting every
-//! snapshot format shares.
+//! The atomic write every snapshot goes through, and the number, vector and XML formatting
+//! every snapshot format shares.
 
-use std::ffi::OsString;
 use std::fmt;
-use std::fs::{self, File, OpenOptions};
+use std::fs::File;
 use std::io::{self, BufWriter, Write};
 use std::path::Path;
-use std::sync::atomic::{AtomicU64, Ordering};
 
-use super::validate::invalid;
 use super::{Snapshot, WallPlane, CM_PER_S_PER_M_PER_S, CM_TO_UM};
+use crate::output::atomic::write_atomic_with;
 
-/// Distinguishes temporary files of concurrent writers within one process.
-pub(super) static TMP_COUNTER: AtomicU64 = AtomicU64::new(0);
-
-/// Writes through `body` into a hidden temporary file next to `path`, fsyncs it and renames
-/// it over `path`. Same directory, because a rename is only atomic within one file system.
-/// The leading dot keeps ParaView's file-series grouping from picking the file up while it
-/// is being written. On any error the temporary file is removed and `path` is untouched.
+/// [`write_atomic_with`], with the target named in every error: file-system errors carry no
+/// path, and a run's log should say which file failed.
 pub(super) fn write_atomically<F>(path: &Path, body: F) -> io::Result<()>
 where
-    F: FnOnce(&mut BufWriter<File>) -> io::Result<()>,
+    F: FnOnce(&mut BufWriter<&mut File>) -> io::Result<()>,
 {
-    let file_name = path
-        .file_name()
-        .ok_or_else(|| invalid(format!("{} does not name a file", path.display())))?;
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    let mut tmp_name = OsString::from(".");
-    tmp_name.push(file_name);
-    tmp_name.push(format!(
-        ".{}.{}.tmp",
-        std::process::id(),
-        TMP_COUNTER.fetch_add(1, Ordering::Relaxed)
-    ));
-    let tmp = dir.join(tmp_name);
-
-    // Errors from the file system carry no path; a run's log should say which file failed.
-    let context =
-        |e: io::Error| io::Error::new(e.kind(), format!("writing {}: {e}", path.display()));
-    let file = OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(&tmp)
-        .map_err(context)?;
-    let written = (|| {
-        let mut w = BufWriter::new(file);
-        body(&mut w)?;
-        let file = w.into_inner().map_err(io::IntoInnerError::into_error)?;
-        file.sync_all()?;
-        drop(file);
-        fs::rename(&tmp, path)
-    })();
-    if let Err(e) = written {
-        let _ = fs::remove_file(&tmp);
-        return Err(context(e));
-    }
-    // Make the rename itself durable. Best effort: the new file is already in place and
-    // complete, and some file systems refuse to fsync a directory; that is no reason to
-    // abort a run.
-    #[cfg(unix)]
-    if let Ok(d) = File::open(dir) {
-        let _ = d.sync_all();
-    }
-    Ok(())
+    write_atomic_with(path, body)
+        .map_err(|e| io::Error::new(e.kind(), format!("writing {}: {e}", path.display())))
 }
 
 /// An `f64` in the shortest form that parses back to the same bits (`1.5e-3`, `0e0`).

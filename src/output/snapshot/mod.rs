@@ -14,9 +14,9 @@
 //! Monomer `i` carries the id `i + 1` in both formats: LAMMPS requires positive atom ids, and
 //! using the same id in the VTU file lets a monomer be followed from one viewer to the other.
 //!
-//! All files are written atomically (temporary file in the same directory, fsync, rename), so
-//! a viewer polling the output directory, or a run killed mid-write, never leaves a
-//! truncated snapshot behind under the real name.
+//! All files are written atomically (`output::atomic::write_atomic_with`: temporary file in the
+//! same directory, fsync, rename), so a viewer polling the output directory, or a run killed
+//! mid-write, never leaves a truncated snapshot behind under the real name.
 //!
 //! Here: what a snapshot holds and the public writers; `vtu`, `dump`, `vtp` (walls as polygons)
 //! and the `.pvd` collection below write the formats, `validate` refuses what a viewer could
