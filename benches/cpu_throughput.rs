@@ -4,8 +4,8 @@
 //!
 //! Run: `cargo bench --bench cpu_throughput`
 
+use dustdem::backend::cpu::{CpuEngine, PASS_NAMES};
 use dustdem::config::Config;
-use dustdem::cpu::PASS_NAMES;
 use dustdem::experiment::compression::Compression;
 use std::time::Instant;
 
@@ -28,7 +28,7 @@ fn main() {
             "[sample]\nmonomers = {n}\nseed = 1\n[experiment]\nkind = \"omni\"\nwall_speed_m_s = 1.0\n"
         );
         let config = Config::parse(&text, "benchmark").expect("valid benchmark config");
-        let mut run = Compression::new(&config).expect("setup");
+        let mut run = Compression::with_engine(&config, CpuEngine::new).expect("setup");
         // Warm up past the first contact changes, then measure.
         let steps = (2e8 / n as f64).clamp(200.0, 20_000.0) as u64;
         run.engine.run(steps / 10).expect("warm-up");

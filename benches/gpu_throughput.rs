@@ -14,12 +14,13 @@
 //! inside passes); they leave out the gaps between dispatches, so they add up to less than the
 //! step.
 
+use dustdem::backend::cpu::CpuEngine;
+use dustdem::backend::gpu::context::{GpuContext, Requirements};
+use dustdem::backend::gpu::engine::GpuEngine;
+use dustdem::backend::gpu::kernels::ENTRY_POINTS;
+use dustdem::backend::gpu::shader::FloatMode;
 use dustdem::config::Config;
 use dustdem::experiment::compression::Compression;
-use dustdem::gpu::context::{GpuContext, Requirements};
-use dustdem::gpu::engine::GpuEngine;
-use dustdem::gpu::kernels::ENTRY_POINTS;
-use dustdem::gpu::shader::FloatMode;
 use std::time::Instant;
 
 fn config(n: usize) -> Config {
@@ -77,7 +78,7 @@ fn main() {
         };
         let cfg = config(n);
 
-        let mut cpu = Compression::new(&cfg).expect("setup");
+        let mut cpu = Compression::with_engine(&cfg, CpuEngine::new).expect("setup");
         cpu.engine.run(steps / 10).expect("warm-up");
 
         let mut ctx = GpuContext::new(&Requirements::default()).expect("adapter");

@@ -2,10 +2,10 @@
 //! chart, same code): `cargo run --release --example curve_png -- RUN_DIR [OUT.png]`.
 
 use dustdem::config::Config;
-use dustdem::io::csv::read_csv;
-use dustdem::io::plot::panels_png;
-use dustdem::io::run_dir::{CONFIG_FILE, CURVE_FILE};
 use dustdem::job::curve_plot;
+use dustdem::output::csv::read_csv;
+use dustdem::output::plot::panels_png;
+use dustdem::output::run_dir::{CONFIG_FILE, CURVE_FILE};
 use std::path::PathBuf;
 
 fn main() -> Result<(), String> {

@@ -5,15 +5,17 @@
 #![allow(clippy::needless_range_loop, clippy::too_many_arguments)]
 
 pub mod analysis;
+pub mod backend;
+pub mod binary;
 pub mod calibrate;
+pub mod cli;
 pub mod config;
-pub mod cpu;
+pub mod engine;
 pub mod experiment;
-pub mod gpu;
-pub mod io;
 pub mod job;
 pub mod material;
 pub mod model;
+pub mod output;
 pub mod rng;
 pub mod sample;
-pub mod snapshots;
+pub mod state;

@@ -57,7 +57,7 @@ fn small_omnidirectional_run_writes_its_curve() {
     for f in ["curve.csv", "profiles.csv", "curve.svg", "config.toml"] {
         assert!(out.join(f).is_file(), "{f} written");
     }
-    let (header, rows) = dustdem::io::csv::read_csv(out.join("curve.csv")).unwrap();
+    let (header, rows) = dustdem::output::csv::read_csv(out.join("curve.csv")).unwrap();
     assert!(rows.len() > 100);
     let phi = column(&header, &rows, "phi");
     let gap = column(&header, &rows, "wall_gap_um");

@@ -1,7 +1,8 @@
 //! Experiment setups on the CPU reference: unidirectional geometry and overflow detection.
 
+use dustdem::backend::cpu::CpuEngine;
 use dustdem::config::Config;
-use dustdem::cpu::EngineError;
+use dustdem::engine::EngineError;
 use dustdem::experiment::compression::{Compression, Event, RunError};
 use dustdem::experiment::measure::{filling_factor, projected_area};
 
@@ -12,7 +13,7 @@ fn unidirectional_run_uses_the_projected_cross_section() {
         "uni test",
     )
     .unwrap();
-    let mut run = Compression::new(&config).unwrap();
+    let mut run = Compression::with_engine(&config, CpuEngine::new).unwrap();
     assert_eq!(run.engine.walls.len(), 2, "only the two plates");
     let v = 4.0 / 3.0 * std::f64::consts::PI * run.engine.law.radius.powi(3);
     let mut rows = Vec::new();
@@ -40,7 +41,7 @@ fn contact_slot_overflow_is_an_error_naming_the_setting() {
         "overflow test",
     )
     .unwrap();
-    let error = match Compression::new(&config) {
+    let error = match Compression::with_engine(&config, CpuEngine::new) {
         Err(RunError::Engine(e @ EngineError::SlotOverflow { .. })) => e,
         Err(other) => panic!("wrong error: {other}"),
         Ok(_) => panic!("an RBD sample has monomers with two partners of higher index"),
@@ -54,8 +55,7 @@ fn contact_slot_overflow_is_an_error_naming_the_setting() {
 
 #[test]
 fn runaway_overlap_and_non_finite_state_are_caught() {
-    use dustdem::cpu::state::Monomers;
-    use dustdem::cpu::CpuEngine;
+    use dustdem::state::Monomers;
     use glam::DVec3;
     let law = Config::default().contact_law();
     let r = law.radius;

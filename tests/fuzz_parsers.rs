@@ -9,8 +9,8 @@
 mod common;
 
 use common::Scratch;
+use dustdem::binary::fnv1a64;
 use dustdem::config::Config;
-use dustdem::io::binary::fnv1a64;
 use dustdem::job::load_checkpoint;
 use dustdem::sample::Sample;
 use std::panic::{catch_unwind, AssertUnwindSafe};

@@ -11,12 +11,13 @@
 
 mod gpu_support;
 
+use dustdem::backend::cpu::CpuEngine;
+use dustdem::backend::gpu::context::context_for_tests;
+use dustdem::backend::gpu::engine::GpuEngine;
+use dustdem::backend::gpu::shader::FloatMode;
 use dustdem::config::Config;
-use dustdem::cpu::CpuEngine;
-use dustdem::experiment::compression::{Compression, Engine, Event, Row};
-use dustdem::gpu::context::context_for_tests;
-use dustdem::gpu::engine::GpuEngine;
-use dustdem::gpu::shader::FloatMode;
+use dustdem::engine::Engine;
+use dustdem::experiment::compression::{Compression, Event, Row};
 use std::sync::OnceLock;
 
 fn rows<E: Engine>(mut run: Compression<E>) -> Vec<Row> {
@@ -39,7 +40,7 @@ fn both_in(mode: Option<FloatMode>, text: &str) -> Option<(Vec<Row>, Vec<Row>, F
         ctx.float_mode = mode;
     }
     let mode = ctx.float_mode;
-    let cpu = rows(Compression::new(&config).unwrap());
+    let cpu = rows(Compression::with_engine(&config, CpuEngine::new).unwrap());
     let gpu = rows(
         Compression::with_engine(&config, |law, dt, m, w, ps, ws| {
             Ok(GpuEngine::new(ctx, law, dt, m, w, ps, ws)?)
@@ -161,7 +162,7 @@ fn loaded() -> &'static (CpuEngine, f64, f64) {
     static LOADED: OnceLock<(CpuEngine, f64, f64)> = OnceLock::new();
     LOADED.get_or_init(|| {
         let config = Config::parse(LOADING, "test").unwrap();
-        let mut loading = Compression::new(&config).unwrap();
+        let mut loading = Compression::with_engine(&config, CpuEngine::new).unwrap();
         let mut phi = 0.0;
         loading
             .run(&mut |event| {

@@ -6,11 +6,11 @@ mod common;
 mod gpu_support;
 
 use common::*;
-use dustdem::cpu::state::Monomers;
-use dustdem::cpu::{DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
-use dustdem::gpu::context::context_for_tests;
-use dustdem::gpu::engine::GpuEngine;
+use dustdem::backend::gpu::context::context_for_tests;
+use dustdem::backend::gpu::engine::GpuEngine;
 use dustdem::model::{ContactLaw, Damping};
+use dustdem::state::Monomers;
+use dustdem::state::{DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
 
 fn gpu_engine(law: ContactLaw, dt: f64, m: Monomers) -> Option<GpuEngine> {
     let ctx = context_for_tests()?;

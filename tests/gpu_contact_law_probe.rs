@@ -19,9 +19,9 @@ mod common;
 mod gpu_support;
 
 use common::SplitMix64;
-use dustdem::gpu::context::context_for_tests;
-use dustdem::gpu::layout::GpuDamping;
-use dustdem::gpu::shader::{self, FloatMode};
+use dustdem::backend::gpu::context::context_for_tests;
+use dustdem::backend::gpu::layout::GpuDamping;
+use dustdem::backend::gpu::shader::{self, FloatMode};
 use dustdem::material::{ContactConstants, Material, TwistingStiffness, WallTwisting};
 use dustdem::model::normal::{D_MIN, X_AT_ZERO_OVERLAP, X_MIN};
 use dustdem::model::{

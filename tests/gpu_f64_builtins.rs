@@ -9,8 +9,8 @@ mod common;
 mod gpu_support;
 
 use common::SplitMix64;
-use dustdem::gpu::context::context_for_tests;
-use dustdem::gpu::shader::{assemble, FloatMode, Source, CAPABILITIES};
+use dustdem::backend::gpu::context::context_for_tests;
+use dustdem::backend::gpu::shader::{assemble, FloatMode, Source, CAPABILITIES};
 use gpu_support::run_probe;
 
 const SAMPLES: usize = 256;

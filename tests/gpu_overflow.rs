@@ -2,12 +2,12 @@
 //! slots, cell-table buckets and candidate lists (with the monomer, the limit and the config key
 //! to change), and a lost device.
 
+use dustdem::backend::gpu::context::context_for_tests;
+use dustdem::backend::gpu::engine::{GpuEngine, GpuError};
+use dustdem::backend::gpu::layout::{INCOMING_CAPACITY, NEIGHBOUR_CAPACITY};
 use dustdem::config::Config;
-use dustdem::cpu::state::{Monomers, Wall};
 use dustdem::experiment::compression::{Compression, RunError};
-use dustdem::gpu::context::context_for_tests;
-use dustdem::gpu::engine::{GpuEngine, GpuError};
-use dustdem::gpu::layout::{INCOMING_CAPACITY, NEIGHBOUR_CAPACITY};
+use dustdem::state::{Monomers, Wall};
 use glam::DVec3;
 
 /// `count` points on a sphere of radius `radius` around the origin (Fibonacci lattice).

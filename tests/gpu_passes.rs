@@ -17,14 +17,15 @@ mod common;
 mod gpu_support;
 
 use common::*;
-use dustdem::cpu::neighbours::NeighbourList;
-use dustdem::cpu::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
-use dustdem::cpu::{contacts, forces, integrate, reduce, walls, CpuEngine};
-use dustdem::gpu::context::context_for_tests;
-use dustdem::gpu::engine::GpuEngine;
-use dustdem::gpu::kernels::Kernel;
-use dustdem::gpu::shader::FloatMode;
+use dustdem::backend::cpu::neighbours::NeighbourList;
+use dustdem::backend::cpu::{contacts, forces, integrate, walls, CpuEngine};
+use dustdem::backend::gpu::context::context_for_tests;
+use dustdem::backend::gpu::engine::GpuEngine;
+use dustdem::backend::gpu::kernels::Kernel;
+use dustdem::backend::gpu::shader::FloatMode;
 use dustdem::model::{ContactLaw, Damping, WallFactors};
+use dustdem::state::reduction as reduce;
+use dustdem::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
 use glam::{DQuat, DVec3};
 
 const TALLY_TOLERANCE: f64 = 1e-12;
@@ -88,8 +89,9 @@ fn crafted() -> Crafted {
 
     // Edit the contact table.
     let k = law.pair;
-    let t = &mut cpu.contacts;
-    let p = &cpu.monomers.position;
+    let s = &mut cpu.state;
+    let t = &mut s.contacts;
+    let p = &s.monomers.position;
     let mut counter = 0usize;
     for i in 0..p.len() {
         let mut slot = 0;
@@ -158,7 +160,7 @@ fn crafted() -> Crafted {
         for slot in 0..t.wall_count[i] as usize {
             let idx = i * t.wall_slots + slot;
             let mut c = t.wall[idx];
-            let wall = &cpu.walls[c.wall as usize];
+            let wall = &s.walls[c.wall as usize];
             let kw = wall.constants;
             let axis = perpendicular(wall.normal, w_counter);
             match w_counter % 4 {
@@ -176,7 +178,7 @@ fn crafted() -> Crafted {
     let far = (0..p.len())
         .find(|&i| t.wall_count[i] == 0 && p[i].z > zs[6] + 10.0 * r)
         .unwrap();
-    let floor = &cpu.walls[0];
+    let floor = &s.walls[0];
     t.wall[far * t.wall_slots] = WallContact {
         wall: 0,
         n1: -floor.normal,
@@ -286,7 +288,7 @@ fn integrate_matches_its_cpu_twin() {
     let Some(mut gpu) = gpu_of(&state) else {
         return;
     };
-    let mut cpu = state.clone();
+    let mut cpu = state.state.clone();
     let law: ContactLaw = cpu.law;
     integrate::integrate(
         cpu.dt,
@@ -326,11 +328,11 @@ fn contacts_match_their_cpu_twin() {
     let Some(mut gpu) = gpu_of(&state) else {
         return;
     };
-    let mut cpu = state.clone();
+    let mut cpu = state.state.clone();
     let mut list = NeighbourList::new(2.0 * cpu.law.radius, 0.2 * cpu.law.radius);
     list.refresh(&cpu.monomers.position);
     let mut tally = Dissipation::default();
-    contacts::update_contacts(
+    contacts::contacts(
         &cpu.law,
         cpu.dt,
         &cpu.monomers,
@@ -341,7 +343,7 @@ fn contacts_match_their_cpu_twin() {
     )
     .unwrap();
     // The contacts pass then applies the inelastic limits of the owners it lists, pair and
-    // wall contacts (on the CPU, the starts of pair_forces and wall_forces).
+    // wall contacts (on the CPU, the starts of forces and wall_forces).
     for i in 0..cpu.monomers.len() {
         for slot in 0..cpu.contacts.pair_count[i] as usize {
             let c = &mut cpu.contacts.pair[i * cpu.contacts.pair_slots + slot];
@@ -392,11 +394,11 @@ fn forces_and_walls_match_their_cpu_twins() {
     let Some(mut gpu) = gpu_of(&state) else {
         return;
     };
-    let mut cpu = state.clone();
+    let mut cpu = state.state.clone();
     let mut tally = Dissipation::default();
     let nw = cpu.walls.len();
     let (mut wall_force, mut wall_damping) = (vec![DVec3::ZERO; nw], vec![DVec3::ZERO; nw]);
-    forces::pair_forces(
+    forces::forces(
         &cpu.law,
         cpu.dt,
         &mut cpu.monomers,

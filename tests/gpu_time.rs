@@ -6,9 +6,9 @@ mod common;
 mod gpu_support;
 
 use common::Scratch;
+use dustdem::backend::gpu::context::context_for_tests;
 use dustdem::config::Config;
-use dustdem::gpu::context::context_for_tests;
-use dustdem::io::csv::read_csv;
+use dustdem::output::csv::read_csv;
 use std::path::Path;
 use std::process::Command;
 

@@ -10,12 +10,13 @@ mod common;
 mod gpu_support;
 
 use common::*;
-use dustdem::cpu::state::{Monomers, Wall};
-use dustdem::cpu::{CpuEngine, DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
-use dustdem::gpu::context::context_for_tests;
-use dustdem::gpu::engine::GpuEngine;
-use dustdem::gpu::shader::FloatMode;
+use dustdem::backend::cpu::CpuEngine;
+use dustdem::backend::gpu::context::context_for_tests;
+use dustdem::backend::gpu::engine::GpuEngine;
+use dustdem::backend::gpu::shader::FloatMode;
 use dustdem::model::{ContactLaw, Damping, WallFactors};
+use dustdem::state::{Monomers, Wall};
+use dustdem::state::{DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
 use glam::DVec3;
 
 /// Largest accepted position difference, as a fraction of δ₀, in the exact mode: none.

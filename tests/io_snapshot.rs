@@ -6,7 +6,7 @@
 //! for cm to µm, `v / 100` for cm/s to m/s): the conversion is the only rounding the files
 //! may add.
 
-use dustdem::io::snapshot::{
+use dustdem::output::snapshot::{
     write_failed_vtu, write_lammps_dump, write_pvd, write_vtu, write_walls_vtp, Snapshot,
     SnapshotFormat, WallPlane,
 };

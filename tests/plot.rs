@@ -1,9 +1,9 @@
-//! The figures of `io::plot`: SVG that an XML parser reads, with the title, axis labels, tick
+//! The figures of `output::plot`: SVG that an XML parser reads, with the title, axis labels, tick
 //! labels, legend and every series; PNG that decodes at the panels' size with the series'
 //! colours in it; the compression curve of `dustdem run`.
 
 use dustdem::config::ExperimentKind;
-use dustdem::io::plot::{panels_png, Plot, Series, Style, PALETTE};
+use dustdem::output::plot::{panels_png, Plot, Series, Style, PALETTE};
 use quick_xml::events::Event;
 use quick_xml::Reader;
 

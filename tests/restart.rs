@@ -4,23 +4,24 @@
 mod common;
 
 use common::Scratch;
+use dustdem::backend::cpu::CpuEngine;
+use dustdem::backend::gpu::context::context_for_tests;
+use dustdem::backend::gpu::engine::GpuEngine;
+use dustdem::binary::{Decoder, Encoder};
 use dustdem::config::Config;
-use dustdem::cpu::CpuEngine;
 use dustdem::experiment::compression::Compression;
-use dustdem::gpu::context::context_for_tests;
-use dustdem::gpu::engine::GpuEngine;
-use dustdem::io::binary::{Decoder, Encoder};
+use dustdem::state::State;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-fn assert_same_state(a: &CpuEngine, b: &CpuEngine) {
+fn assert_same_state(a: &State, b: &State) {
     let (m, n) = (&a.monomers, &b.monomers);
     assert_eq!(a.step, b.step);
     assert_eq!(a.time.to_bits(), b.time.to_bits());
     // Bit-identical: compare the encodings, which hold every field a step reads.
     let (mut ea, mut eb) = (Encoder::default(), Encoder::default());
-    a.encode_state(&mut ea);
-    b.encode_state(&mut eb);
+    a.encode(&mut ea);
+    b.encode(&mut eb);
     assert_eq!(m.position, n.position);
     assert_eq!(a.tally, b.tally);
     assert!(ea.bytes == eb.bytes, "engine states differ");
@@ -33,15 +34,18 @@ fn checkpoint_and_resume_continue_bit_for_bit() {
         "restart test",
     )
     .unwrap();
-    let mut straight = Compression::new(&config).unwrap();
+    let mut straight = Compression::with_engine(&config, CpuEngine::new).unwrap();
     straight.engine.run(6000).unwrap();
 
-    let mut first = Compression::new(&config).unwrap();
+    let mut first = Compression::with_engine(&config, CpuEngine::new).unwrap();
     first.engine.run(3000).unwrap();
     let mut e = Encoder::default();
     first.encode_state(&mut e);
     drop(first);
-    let mut resumed = Compression::decode_state(&config, &mut Decoder::new(&e.bytes)).unwrap();
+    let mut resumed = Compression::decode_state(&config, &mut Decoder::new(&e.bytes))
+        .unwrap()
+        .map_engine(|state| Ok(CpuEngine::from_state(state)))
+        .unwrap();
     resumed.engine.run(3000).unwrap();
 
     assert!(straight.engine.contacts.pair_contact_count() > 0);
@@ -78,7 +82,7 @@ fn gpu_checkpoint_and_resume_continue_bit_for_bit() {
     let decoded = Compression::decode_state(&config, &mut Decoder::new(&e.bytes)).unwrap();
     let ctx = context_for_tests().unwrap();
     let mut resumed = decoded
-        .map_engine(|cpu| Ok(GpuEngine::resume(ctx, &cpu)?))
+        .map_engine(|state| Ok(GpuEngine::resume(ctx, &state)?))
         .unwrap();
     resumed.engine.run(600).unwrap();
 

@@ -3,6 +3,7 @@
 mod common;
 
 use common::*;
+use dustdem::backend::cpu::CpuEngine;
 use dustdem::experiment::collision::*;
 use dustdem::material::Material;
 use dustdem::model::normal::{jkr_force, D_MIN, X_MIN};
@@ -32,7 +33,15 @@ fn sticking_threshold_equals_the_jkr_loop_energy_balance() {
     assert!((analytic / reference - 1.0).abs() < 1e-5);
     assert!((loop_energy / (printed::F_C * printed::DELTA0) - 0.772241).abs() < 1e-6);
     let dt = 1e-12;
-    let simulated = sticking_threshold(&law, dt, 0.99 * reference, 1.01 * reference, 1e-6).unwrap();
+    let simulated = sticking_threshold(
+        &law,
+        dt,
+        0.99 * reference,
+        1.01 * reference,
+        1e-6,
+        CpuEngine::new,
+    )
+    .unwrap();
     let rel = simulated / reference - 1.0;
     eprintln!("sticking threshold: simulated {simulated:.5} cm/s, reference {reference:.5} cm/s, rel {rel:.2e}");
     // Measured −1.6e-5 at 1 ps (−2.1e-4 at 2 ps, −6.0e-4 at 4 ps: the step's error in where the
@@ -52,6 +61,7 @@ fn threshold_increase(damping: Damping, reference: printed::Damping1d, guess: f6
         0.98 * expected,
         1.02 * expected,
         1e-6,
+        CpuEngine::new,
     )
     .unwrap();
     let base = sticking_threshold(
@@ -60,6 +70,7 @@ fn threshold_increase(damping: Damping, reference: printed::Damping1d, guess: f6
         0.99 * base_reference,
         1.01 * base_reference,
         1e-6,
+        CpuEngine::new,
     )
     .unwrap();
     eprintln!(

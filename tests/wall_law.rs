@@ -7,11 +7,12 @@ mod common;
 
 use common::printed::{self, K_T, RADIUS};
 use common::*;
-use dustdem::cpu::state::{Monomers, Wall, WallContact};
-use dustdem::cpu::walls::wall_interaction;
-use dustdem::cpu::{CpuEngine, DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
+use dustdem::backend::cpu::CpuEngine;
 use dustdem::material::WallTwisting;
 use dustdem::model::{ContactLaw, Damping, ModelOptions, WallFactors};
+use dustdem::state::interaction::wall_interaction;
+use dustdem::state::{Monomers, Wall, WallContact};
+use dustdem::state::{DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
 use glam::{DQuat, DVec3};
 
 const WEAK: WallFactors = WallFactors {

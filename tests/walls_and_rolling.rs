@@ -4,12 +4,13 @@ mod common;
 
 use common::printed;
 use common::*;
-use dustdem::cpu::state::{Monomers, Wall, WallContact};
-use dustdem::cpu::walls::wall_interaction;
-use dustdem::cpu::{CpuEngine, DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
+use dustdem::backend::cpu::CpuEngine;
 use dustdem::material::{rolling_energy_quarter_turn, Derived, Material, TwistingStiffness};
 use dustdem::model::wall::wall_overlap;
 use dustdem::model::{ContactLaw, Damping, ModelOptions, WallFactors};
+use dustdem::state::interaction::wall_interaction;
+use dustdem::state::{Monomers, Wall, WallContact};
+use dustdem::state::{DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
 use glam::DVec3;
 use std::f64::consts::PI;
 

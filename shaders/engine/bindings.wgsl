@@ -1,6 +1,6 @@
 // The engine's device state: one bind group shared by every pass, so the step script binds it
 // once and every pipeline has the same explicit layout (SPIR-V passthrough modules cannot be
-// reflected). Mirrored by src/gpu/buffers.rs (binding numbers) and src/gpu/layout.rs (structs);
+// reflected). Mirrored by src/backend/gpu/buffers.rs (binding numbers) and src/backend/gpu/layout.rs (structs);
 // a test reads these structs with naga and checks sizes and offsets against the Rust side.
 //
 // Vectors are vec4<f64> (32 bytes, the w component unused unless named), so every array element
@@ -31,7 +31,7 @@ struct Params {
     // Hash table of cells: size − 1 (a power of two), ids per bucket.
     table_mask: u32,
     bucket_capacity: u32,
-    // Damping::kind of shared/damping.wgsl.
+    // Damping::kind of model/damping.wgsl.
     damping_kind: u32,
     // Elements in each binding of a per-slot vector array (see load_pair_n1).
     slot_chunk: u32,
@@ -72,7 +72,7 @@ const DIAG_THREADS: u32 = 64u;
 // Bindings each per-slot vector array is split into (see load_pair_n1).
 const SLOT_CHUNKS: u32 = 3u;
 // Chunks in use: 1 where every per-slot array fits its first binding. The engine compiles its
-// kernels with the value its problem needs (gpu::shader::Assembled::with_one_slot_chunk), so
+// kernels with the value its problem needs (backend::gpu::shader::Assembled::with_one_slot_chunk), so
 // the chunk selection below folds away where there is one chunk; this line is rewritten.
 const SLOT_CHUNKS_IN_USE: u32 = 3u;
 // Candidate partners j > i one monomer's list holds (within 2r + skin: about 12 at φ = 0.74).
@@ -95,7 +95,7 @@ const ARGS_REBUILD: u32 = 2u;
 // empties them.
 const EVENT_LISTS: u32 = 1u;
 // What an owner in WORK_CONTACTS has to do, in bits above any monomer index (N < 2^29: the
-// buffers' limits keep N far lower, see gpu::buffers::Sizes::check).
+// buffers' limits keep N far lower, see backend::gpu::buffers::Sizes::check).
 const OWNER_EVENTS: u32 = 0x80000000u;
 const OWNER_CORRECTIONS: u32 = 0x40000000u;
 const OWNER_WALLS: u32 = 0x20000000u;
@@ -103,7 +103,7 @@ const OWNER_INDEX: u32 = 0x1fffffffu;
 const WORK_GROUP: u32 = 8u;
 // Workgroup size of the passes over the pair-contact list.
 const PAIR_GROUP: u32 = 64u;
-// Workgroup size of the passes with one invocation per monomer (gpu::engine dispatches
+// Workgroup size of the passes with one invocation per monomer (backend::gpu::engine dispatches
 // ⌈n / MONOMER_GROUP⌉ groups; integrate_drift sizes the neighbour passes alike).
 const MONOMER_GROUP: u32 = 64u;
 
@@ -124,7 +124,7 @@ const FLAG_NEIGHBOURS: u32 = 5u;
 // lowest such index); the neighbour passes rebuild them and the contacts pass lowers it.
 const FLAG_REBUILD: u32 = 6u;
 
-// Per-monomer cumulative energy channels (cpu::state::Dissipation, then the wall work).
+// Per-monomer cumulative energy channels (state::Dissipation, then the wall work).
 const TALLY_STRIDE: u32 = 8u;
 const TALLY_BREAKING: u32 = 0u;
 const TALLY_FORMING: u32 = 1u;
@@ -145,7 +145,7 @@ const DIAG_WALL_FORCE_SUM: u32 = 48u;
 const DIAG_SIZE: u32 = 80u;
 
 @group(0) @binding(0) var<uniform> params: Params;
-// The walls, declared three ways over one buffer (gpu::buffers::ALIASES). Indexed by a wall
+// The walls, declared three ways over one buffer (backend::gpu::buffers::ALIASES). Indexed by a wall
 // number every invocation shares (a loop over the walls): `walls`, a uniform, which llvmpipe
 // loads once per SIMD group where it loads storage lane by lane. Indexed by a wall number of
 // the invocation's own (a wall contact's `wall_id`): `wall_table`, read-only storage, as a

@@ -1,9 +1,8 @@
 // requires: bindings normal damping rolling sliding twisting wall math
 //
 // One contact's forces, torques, potential and step energy: the twins of pair_interaction,
-// pair_contact_potential and pair_step_energy (src/cpu/forces.rs, src/cpu/contacts.rs) and of
-// wall_interaction, wall_contact_potential and wall_step_energy (src/cpu/walls.rs,
-// src/cpu/contacts.rs), same operations in the same order. Contact history is passed by value
+// pair_contact_potential, pair_step_energy, wall_interaction, wall_contact_potential and
+// wall_step_energy in src/state/interaction.rs, same operations in the same order. Contact history is passed by value
 // (n1, n2 or anchor, twist) because it lives in separate arrays on the device.
 
 // (force on 1, damping part of it, torque on 1, torque on 2).
@@ -73,7 +72,7 @@ fn pair_contact_potential(x1: vec3<f64>, x2: vec3<f64>, n1: vec3<f64>, n2: vec3<
 }
 
 // Potential plus half the work of the contact's conservative forces over the step just taken
-// (see pair_step_energy in src/cpu/forces.rs for why).
+// (see pair_step_energy in src/state/interaction.rs for why).
 fn pair_step_energy(i: u32, j: u32, n1: vec3<f64>, n2: vec3<f64>, twist: f64) -> f64 {
     let x1 = position[i].xyz;
     let x2 = position[j].xyz;

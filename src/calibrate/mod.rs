@@ -5,10 +5,11 @@
 //! `simulate` makes (and caches) the runs, `gap` measures the difference and its noise,
 //! `attribution` fits one effect at a time and decides, `workflow` runs the add-and-rerun
 //! loop, `synth` writes measured-like data from the simulator, and `report` writes the
-//! Markdown report, the plots (drawn through `io::plot`) and the corrected config.
+//! Markdown report and the corrected config, `figures` the plots (drawn through `output::plot`).
 
 pub mod attribution;
 pub mod effects;
+pub mod figures;
 pub mod gap;
 pub mod measured;
 pub mod report;

@@ -7,6 +7,7 @@ use super::measured::Geometry;
 use crate::config::{Config, ExperimentKind, FootprintKind, SampleSource};
 use crate::experiment::collision::{analytic_sticking_speed, head_on_collision, Outcome};
 use crate::experiment::compression::{Compression, Event};
+use crate::job::reference_engine;
 use crate::material::normal_period_of;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -206,7 +207,8 @@ pub fn sticking_config(base: &Config) -> Config {
 fn simulate(run: &Run) -> Result<Output, String> {
     match run {
         Run::Compression(config) => {
-            let mut compression = Compression::new(config).map_err(|e| e.to_string())?;
+            let mut compression =
+                Compression::with_engine(config, reference_engine).map_err(|e| e.to_string())?;
             let mut rows = Vec::new();
             let result = compression.run(&mut |event| {
                 if let Event::Row(r) = event {
@@ -237,7 +239,7 @@ fn sticking_threshold_m_s(config: &Config) -> Result<f64, String> {
     let law = config.contact_law();
     let dt = normal_period_of(law.mass, &law.pair) / STICKING_STEPS_PER_PERIOD;
     let sticks = |v: f64| -> Result<bool, String> {
-        let r = head_on_collision(&law, v, dt, 5.0).map_err(|e| e.to_string())?;
+        let r = head_on_collision(&law, v, dt, 5.0, reference_engine).map_err(|e| e.to_string())?;
         Ok(r.outcome == Outcome::Stuck)
     };
     let mut lo = 0.5 * analytic_sticking_speed(&law);

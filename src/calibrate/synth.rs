@@ -162,7 +162,7 @@ pub fn write_synth(
         "# Measured-like data written by dustdem synth.\n{}",
         set.to_toml()
     );
-    crate::io::atomic::write_atomic(out, text.as_bytes())
+    crate::output::atomic::write_atomic(out, text.as_bytes())
         .map_err(|e| format!("{}: {e}", out.display()))?;
     Ok(set)
 }

@@ -1,10 +1,10 @@
 //! Two monomers colliding head-on: the sticking experiment.
 
-use crate::cpu::state::Monomers;
-use crate::cpu::{CpuEngine, EngineError, DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
+use crate::engine::{Engine, EngineError};
 use crate::material::normal_period_of;
 use crate::model::normal::{jkr_potential, X_MIN};
 use crate::model::ContactLaw;
+use crate::state::{Monomers, Wall, DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
 use glam::DVec3;
 
 /// Energy the JKR loop takes from a head-on collision without damping: the work to stretch the
@@ -36,13 +36,15 @@ pub struct CollisionResult {
     pub steps: u64,
 }
 
-/// Collides two monomers head-on at relative speed `speed` [cm/s]. They start 0.05 δ₀ apart and
-/// count as stuck when the contact survives `periods` normal periods after forming.
-pub fn head_on_collision(
+/// Collides two monomers head-on at relative speed `speed` [cm/s] on the engine `build` makes
+/// (the same arguments as a compression's). They start 0.05 δ₀ apart and count as stuck when the
+/// contact survives `periods` normal periods after forming.
+pub fn head_on_collision<E: Engine>(
     law: &ContactLaw,
     speed: f64,
     dt: f64,
     periods: f64,
+    build: impl FnOnce(ContactLaw, f64, Monomers, Vec<Wall>, usize, usize) -> Result<E, EngineError>,
 ) -> Result<CollisionResult, EngineError> {
     let r = law.radius;
     let gap = 0.05 * law.pair.delta0;
@@ -55,7 +57,7 @@ pub fn head_on_collision(
         DVec3::new(0.5 * speed, 0.0, 0.0),
         DVec3::new(-0.5 * speed, 0.0, 0.0),
     ];
-    let mut engine = CpuEngine::new(
+    let mut engine = build(
         *law,
         dt,
         monomers,
@@ -68,22 +70,23 @@ pub fn head_on_collision(
     let limit = ((approach + periods * period) / dt).ceil() as u64 + 10;
     let mut formed_at = None;
     let mut max_overlap = f64::NEG_INFINITY;
-    while engine.step < limit {
-        engine.step()?;
-        let p = &engine.monomers.position;
+    while engine.step_count() < limit {
+        engine.advance(1)?;
+        let p = engine.positions();
         let overlap = 2.0 * r - (p[1] - p[0]).length();
         max_overlap = max_overlap.max(overlap);
-        let touching = engine.contacts.pair_contact_count() > 0;
+        let touching = engine.contact_counts().0 > 0;
         match (formed_at, touching) {
-            (None, true) => formed_at = Some(engine.step),
+            (None, true) => formed_at = Some(engine.step_count()),
             (Some(_), false) => {
-                let rel = engine.synchronized_velocity(1) - engine.synchronized_velocity(0);
+                let state = engine.state();
+                let rel = state.synchronized_velocity(1) - state.synchronized_velocity(0);
                 return Ok(CollisionResult {
                     outcome: Outcome::Separated {
                         rebound_speed: rel.x,
                     },
                     max_overlap,
-                    steps: engine.step,
+                    steps: engine.step_count(),
                 });
             }
             _ => {}
@@ -92,25 +95,26 @@ pub fn head_on_collision(
     Ok(CollisionResult {
         outcome: Outcome::Stuck,
         max_overlap,
-        steps: engine.step,
+        steps: engine.step_count(),
     })
 }
 
 /// Sticking threshold by bisection between a speed that sticks and one that does not, to a
-/// relative width `tolerance` [cm/s].
-pub fn sticking_threshold(
+/// relative width `tolerance` [cm/s], each collision on the engine `build` makes.
+pub fn sticking_threshold<E: Engine>(
     law: &ContactLaw,
     dt: f64,
     mut sticks: f64,
     mut bounces: f64,
     tolerance: f64,
+    build: impl Fn(ContactLaw, f64, Monomers, Vec<Wall>, usize, usize) -> Result<E, EngineError>,
 ) -> Result<f64, EngineError> {
     for _ in 0..60 {
         if bounces - sticks <= tolerance * sticks {
             break;
         }
         let mid = 0.5 * (sticks + bounces);
-        match head_on_collision(law, mid, dt, 5.0)?.outcome {
+        match head_on_collision(law, mid, dt, 5.0, &build)?.outcome {
             Outcome::Stuck => sticks = mid,
             Outcome::Separated { .. } => bounces = mid,
         }

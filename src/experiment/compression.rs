@@ -4,84 +4,13 @@
 
 use super::measure::{filling_factor, projected_area};
 use super::setup::{build_sample, build_walls, monomers_of, SetupError, TOP_WALL};
+use crate::binary::{DecodeError, Decoder, Encoder};
 use crate::config::{Config, ExperimentKind};
-use crate::cpu::state::Wall;
-use crate::cpu::{CpuEngine, EnergyReport, EngineError};
-use crate::gpu::engine::GpuError;
-use crate::io::binary::{DecodeError, Decoder, Encoder};
+use crate::engine::{Engine, EngineError};
 use crate::model::ContactLaw;
 use crate::sample::{slab_profile, Footprint};
-use glam::DVec3;
-use std::borrow::Cow;
+use crate::state::{EnergyReport, Monomers, State, Wall};
 use std::fmt;
-
-/// What a compression needs of a backend. The CPU reference and the GPU engine implement it;
-/// everything a row reports goes through it, so both backends write the same CSV.
-pub trait Engine {
-    fn law(&self) -> &ContactLaw;
-    /// Walls at the current time.
-    fn walls(&self) -> &[Wall];
-    fn monomer_count(&self) -> usize;
-    fn step_count(&self) -> u64;
-    /// The time step [s].
-    fn dt(&self) -> f64;
-    /// Simulated time [s]: [`super::simulated_time`] of the step count; not overridden.
-    fn time(&self) -> f64 {
-        super::simulated_time(self.step_count(), self.dt())
-    }
-    /// Advances `steps` steps and returns each wall's force on the monomers averaged over them.
-    fn run_mean_wall_force(&mut self, steps: u64) -> Result<Vec<DVec3>, RunError>;
-    fn positions(&self) -> Cow<'_, [DVec3]>;
-    /// (monomer–monomer contacts, monomer–wall contacts).
-    fn contact_counts(&self) -> (usize, usize);
-    fn energy(&self) -> EnergyReport;
-    /// The complete state as the CPU reference holds it (borrowed on the CPU, read back from
-    /// a device): for checkpoints, snapshots and failure reports.
-    fn state(&self) -> Cow<'_, CpuEngine>;
-}
-
-impl Engine for CpuEngine {
-    fn law(&self) -> &ContactLaw {
-        &self.law
-    }
-    fn walls(&self) -> &[Wall] {
-        &self.walls
-    }
-    fn monomer_count(&self) -> usize {
-        self.monomers.len()
-    }
-    fn step_count(&self) -> u64 {
-        self.step
-    }
-    fn dt(&self) -> f64 {
-        self.dt
-    }
-    fn run_mean_wall_force(&mut self, steps: u64) -> Result<Vec<DVec3>, RunError> {
-        let mut sum = vec![DVec3::ZERO; self.walls.len()];
-        for _ in 0..steps {
-            self.step()?;
-            for (s, f) in sum.iter_mut().zip(&self.wall_force) {
-                *s += *f;
-            }
-        }
-        Ok(sum.into_iter().map(|s| s / steps.max(1) as f64).collect())
-    }
-    fn positions(&self) -> Cow<'_, [DVec3]> {
-        Cow::Borrowed(&self.monomers.position)
-    }
-    fn contact_counts(&self) -> (usize, usize) {
-        (
-            self.contacts.pair_contact_count(),
-            self.contacts.wall_contact_count(),
-        )
-    }
-    fn energy(&self) -> EnergyReport {
-        CpuEngine::energy(self)
-    }
-    fn state(&self) -> Cow<'_, CpuEngine> {
-        Cow::Borrowed(self)
-    }
-}
 
 /// One measurement row.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -178,7 +107,6 @@ impl fmt::Display for StopReason {
 pub enum RunError {
     Setup(SetupError),
     Engine(EngineError),
-    Gpu(GpuError),
     Output(String),
     /// Stopped on request (SIGINT/SIGTERM) after writing a checkpoint.
     Interrupted {
@@ -191,7 +119,6 @@ impl fmt::Display for RunError {
         match self {
             RunError::Setup(e) => write!(f, "{e}"),
             RunError::Engine(e) => write!(f, "{e}"),
-            RunError::Gpu(e) => write!(f, "{e}"),
             RunError::Output(e) => write!(f, "{e}"),
             RunError::Interrupted { checkpoint } => write!(
                 f,
@@ -210,17 +137,8 @@ impl From<EngineError> for RunError {
     }
 }
 
-impl From<GpuError> for RunError {
-    fn from(e: GpuError) -> Self {
-        match e {
-            GpuError::Engine(e) => RunError::Engine(e),
-            other => RunError::Gpu(other),
-        }
-    }
-}
-
 /// What the run reports as it goes.
-pub enum Event<'a, E: Engine = CpuEngine> {
+pub enum Event<'a, E: Engine> {
     Row(&'a Row),
     /// Filling-factor profile in slabs one diameter thick: (slab centre height [cm], φ).
     Profile(&'a Row, &'a [(f64, f64)]),
@@ -229,7 +147,9 @@ pub enum Event<'a, E: Engine = CpuEngine> {
     RowDone(&'a Compression<E>),
 }
 
-pub struct Compression<E: Engine = CpuEngine> {
+/// A compression run on engine `E`. As a checkpoint holds it, before an engine continues it,
+/// `E` is the bare [`State`] ([`Compression::decode_state`], then [`Compression::map_engine`]).
+pub struct Compression<E> {
     pub kind: ExperimentKind,
     pub engine: E,
     /// Base of the box or cylinder the sample was made in.
@@ -242,9 +162,9 @@ pub struct Compression<E: Engine = CpuEngine> {
     rows: u64,
 }
 
-impl Compression<CpuEngine> {
-    /// Continues a run from [`Compression::encode_state`]'s bytes under `config` (the one the
-    /// checkpoint carries).
+impl Compression<State> {
+    /// A run as [`Compression::encode_state`] wrote it, under `config` (the one the checkpoint
+    /// carries), on no engine yet: [`Compression::map_engine`] continues it on one.
     pub fn decode_state(config: &Config, d: &mut Decoder) -> Result<Self, DecodeError> {
         let kind = d.u32("footprint")?;
         let size = d.f64("footprint")?;
@@ -260,7 +180,7 @@ impl Compression<CpuEngine> {
             }
         };
         let rows = d.u64("rows")?;
-        let engine = CpuEngine::decode_state(config.contact_law(), d)?;
+        let engine = State::decode(config.contact_law(), d)?;
         let e = &config.experiment;
         Ok(Compression {
             kind: e.kind,
@@ -274,17 +194,26 @@ impl Compression<CpuEngine> {
             rows,
         })
     }
+}
 
-    /// The compression a config describes, on the CPU reference.
-    pub fn new(config: &Config) -> Result<Self, RunError> {
-        Self::with_engine(
-            config,
-            |law, dt, monomers, walls, pair_slots, wall_slots| {
-                Ok(CpuEngine::new(
-                    law, dt, monomers, walls, pair_slots, wall_slots,
-                )?)
-            },
-        )
+impl<E> Compression<E> {
+    /// The same run continued on another engine made from this one's (a resumed checkpoint
+    /// moving to the GPU, for instance).
+    pub fn map_engine<F: Engine>(
+        self,
+        convert: impl FnOnce(E) -> Result<F, EngineError>,
+    ) -> Result<Compression<F>, RunError> {
+        Ok(Compression {
+            kind: self.kind,
+            engine: convert(self.engine)?,
+            footprint: self.footprint,
+            average_steps: self.average_steps,
+            phi_stop: self.phi_stop,
+            pressure_stop: self.pressure_stop,
+            max_steps: self.max_steps,
+            profile_every: self.profile_every,
+            rows: self.rows,
+        })
     }
 }
 
@@ -302,20 +231,13 @@ impl<E: Engine> Compression<E> {
             }
         }
         e.u64(self.rows);
-        self.engine.state().encode_state(e);
+        self.engine.state().encode(e);
     }
 
     /// The compression a config describes, on the engine `build` makes of its initial state.
     pub fn with_engine(
         config: &Config,
-        build: impl FnOnce(
-            ContactLaw,
-            f64,
-            crate::cpu::state::Monomers,
-            Vec<Wall>,
-            usize,
-            usize,
-        ) -> Result<E, RunError>,
+        build: impl FnOnce(ContactLaw, f64, Monomers, Vec<Wall>, usize, usize) -> Result<E, EngineError>,
     ) -> Result<Self, RunError> {
         let law = config.contact_law();
         let sample = build_sample(config, &law).map_err(RunError::Setup)?;
@@ -339,25 +261,6 @@ impl<E: Engine> Compression<E> {
             max_steps: e.max_steps,
             profile_every: e.profile_every_rows,
             rows: 0,
-        })
-    }
-
-    /// The same run continued on another engine made from this one's (a resumed checkpoint
-    /// moving to the GPU, for instance).
-    pub fn map_engine<F: Engine>(
-        self,
-        convert: impl FnOnce(E) -> Result<F, RunError>,
-    ) -> Result<Compression<F>, RunError> {
-        Ok(Compression {
-            kind: self.kind,
-            engine: convert(self.engine)?,
-            footprint: self.footprint,
-            average_steps: self.average_steps,
-            phi_stop: self.phi_stop,
-            pressure_stop: self.pressure_stop,
-            max_steps: self.max_steps,
-            profile_every: self.profile_every,
-            rows: self.rows,
         })
     }
 

@@ -1,9 +1,9 @@
 //! Builds the initial state of an experiment from a config: sample, monomers, walls.
 
 use crate::config::{Config, ExperimentKind, FootprintKind, SampleSource};
-use crate::cpu::state::{Monomers, Wall};
 use crate::model::ContactLaw;
 use crate::sample::{generate_rbd, side_for_cube, Footprint, RbdParams, Sample};
+use crate::state::{Monomers, Wall};
 use glam::DVec3;
 use std::fmt;
 

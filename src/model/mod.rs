@@ -1,7 +1,7 @@
 //! The contact law as pure functions: geometry in, forces, torques and corrected history out.
 //!
 //! Each slot (normal, damping, rolling, sliding, twisting, wall) lives in its own file, in the
-//! order the force pass evaluates them. The WGSL modules in `shaders/shared/` mirror these
+//! order the force pass evaluates them. The WGSL modules in `shaders/model/` mirror these
 //! functions name for name.
 
 pub mod damping;

@@ -4,10 +4,11 @@
 
 pub mod printed;
 
-use dustdem::cpu::state::Monomers;
-use dustdem::cpu::{CpuEngine, DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
+use dustdem::backend::cpu::CpuEngine;
 use dustdem::material::Material;
 use dustdem::model::{ContactLaw, Damping, ModelOptions};
+use dustdem::state::Monomers;
+use dustdem::state::{DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
 use glam::DVec3;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};

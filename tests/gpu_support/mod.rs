@@ -3,7 +3,7 @@
 
 #![allow(dead_code)]
 
-use dustdem::gpu::context::GpuContext;
+use dustdem::backend::gpu::context::GpuContext;
 use wgpu::util::DeviceExt;
 
 /// The probe shaders' uniform: number of records and the two record lengths (in f64s).

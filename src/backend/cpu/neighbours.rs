@@ -1,0 +1,90 @@
+//! Candidate pairs for contact detection: a cell grid rebuilt only when some monomer has moved
+//! more than half the skin (Verlet list), so the cost per step stays O(N) with a small constant.
+//!
+//! Cells are keyed by integer coordinates and found by sorting, so the domain is unbounded
+//! (unidirectional runs spread sideways) and the memory is proportional to N.
+
+use glam::DVec3;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct NeighbourList {
+    /// Centre distance below which a pair can touch (2r).
+    pub contact_distance: f64,
+    /// Extra distance included so the list stays valid while monomers move.
+    pub skin: f64,
+    /// Candidate pairs (i < j), sorted.
+    pub pairs: Vec<(u32, u32)>,
+    reference: Vec<DVec3>,
+    pub rebuilds: u64,
+}
+
+impl NeighbourList {
+    pub fn new(contact_distance: f64, skin: f64) -> Self {
+        NeighbourList {
+            contact_distance,
+            skin,
+            pairs: Vec::new(),
+            reference: Vec::new(),
+            rebuilds: 0,
+        }
+    }
+
+    /// Rebuilds the list when it may have gone stale; returns whether it did.
+    pub fn refresh(&mut self, position: &[DVec3]) -> bool {
+        let limit = 0.25 * self.skin * self.skin;
+        let stale = self.reference.len() != position.len()
+            || position
+                .iter()
+                .zip(&self.reference)
+                .any(|(p, r)| (*p - *r).length_squared() > limit);
+        if stale {
+            self.pairs = bin_pairs(position, self.contact_distance + self.skin);
+            self.reference = position.to_vec();
+            self.rebuilds += 1;
+        }
+        stale
+    }
+}
+
+fn cell_of(p: DVec3, cell: f64) -> [i64; 3] {
+    [
+        (p.x / cell).floor() as i64,
+        (p.y / cell).floor() as i64,
+        (p.z / cell).floor() as i64,
+    ]
+}
+
+/// All pairs (i < j) closer than `cutoff`, sorted, by binning into cubic cells of edge `cutoff`.
+pub fn bin_pairs(position: &[DVec3], cutoff: f64) -> Vec<(u32, u32)> {
+    let mut keyed: Vec<([i64; 3], u32)> = position
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (cell_of(*p, cutoff), i as u32))
+        .collect();
+    keyed.sort_unstable();
+    let cutoff2 = cutoff * cutoff;
+    let mut pairs = Vec::new();
+    for (i, p) in position.iter().enumerate() {
+        let c = cell_of(*p, cutoff);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    let key = [c[0] + dx, c[1] + dy, c[2] + dz];
+                    let start = keyed.partition_point(|(k, _)| *k < key);
+                    for &(k, j) in &keyed[start..] {
+                        if k != key {
+                            break;
+                        }
+                        if (j as usize) > i
+                            && (position[j as usize] - *p).length_squared() < cutoff2
+                        {
+                            pairs.push((i as u32, j));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    pairs.sort_unstable();
+    pairs
+}

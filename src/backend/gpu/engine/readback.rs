@@ -1,0 +1,313 @@
+//! Reading back from the device: the small block after every submission (flags, wall forces,
+//! contact counts, tally) with its overflow flags turned into errors, and the full state on
+//! request.
+
+use super::{Diagnostics, GpuEngine, GpuError};
+use crate::backend::gpu::buffers::Buffers;
+use crate::backend::gpu::context::GpuContext;
+use crate::backend::gpu::kernels::Kernel;
+use crate::backend::gpu::layout::{self, GpuWall};
+use crate::engine::EngineError;
+use crate::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
+use glam::DVec3;
+
+impl GpuEngine {
+    pub(super) fn clear_wall_force_sum(&self) {
+        let zeros = [0.0f64; layout::DIAG_SIZE - layout::DIAG_WALL_FORCE_SUM];
+        self.ctx.queue.write_buffer(
+            self.buffers.get("diag"),
+            (layout::DIAG_WALL_FORCE_SUM * 8) as u64,
+            bytemuck::cast_slice(&zeros),
+        );
+        self.ctx.queue.write_buffer(
+            self.buffers.get("diag"),
+            (layout::DIAG_STEPS * 8) as u64,
+            bytemuck::bytes_of(&0.0f64),
+        );
+    }
+
+    /// Reduces the tallies and counts, reads flags and the diagnostics block, and turns a raised
+    /// flag into its error.
+    pub(super) fn read_small(&mut self) -> Result<(), GpuError> {
+        let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            self.encode(&mut pass, &[Kernel::ReduceDiagnostics]);
+        }
+        let flag_bytes = (layout::FLAG_COUNT * 4) as u64;
+        let flags_at = 0;
+        let diag_at = flag_bytes.next_multiple_of(8);
+        encoder.copy_buffer_to_buffer(
+            self.buffers.get("flags"),
+            0,
+            &self.buffers.small_readback,
+            flags_at,
+            flag_bytes,
+        );
+        encoder.copy_buffer_to_buffer(
+            self.buffers.get("diag"),
+            0,
+            &self.buffers.small_readback,
+            diag_at,
+            (layout::DIAG_SIZE * 8) as u64,
+        );
+        // Counted from here on: the totals live on the host.
+        encoder.clear_buffer(self.buffers.get("tally"), 0, None);
+        self.ctx.queue.submit([encoder.finish()]);
+        let bytes = map_read(
+            &self.ctx,
+            &self.buffers.small_readback,
+            Buffers::small_bytes(),
+        )?;
+        let flags: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes[..flag_bytes as usize]);
+        let diag: Vec<f64> = bytemuck::pod_collect_to_vec(&bytes[diag_at as usize..]);
+        for (total, since) in self.totals.iter_mut().zip(&diag[..layout::TALLY_STRIDE]) {
+            *total += since;
+        }
+        let t = &self.totals;
+        let nw = self.walls.len();
+        let wall = |base: usize, w: usize| {
+            DVec3::new(
+                diag[base + 4 * w],
+                diag[base + 4 * w + 1],
+                diag[base + 4 * w + 2],
+            )
+        };
+        let steps = diag[layout::DIAG_STEPS];
+        self.diagnostics = Diagnostics {
+            tally: Dissipation::from_channels(std::array::from_fn(|k| t[k])),
+            wall_work: t[7],
+            pair_contacts: diag[layout::DIAG_PAIR_CONTACTS] as usize,
+            wall_contacts: diag[layout::DIAG_WALL_CONTACTS] as usize,
+            wall_force: (0..nw).map(|w| wall(layout::DIAG_WALL_FORCE, w)).collect(),
+            mean_wall_force: (0..nw)
+                .map(|w| wall(layout::DIAG_WALL_FORCE_SUM, w) / steps.max(1.0))
+                .collect(),
+            mean_steps: steps as u64,
+        };
+        let raised = |f: usize| (flags[f] != layout::NO_MONOMER).then_some(flags[f] as usize);
+        if let Some(monomer) = raised(layout::FLAG_PAIR_SLOTS) {
+            return Err(EngineError::SlotOverflow {
+                kind: "monomer-monomer",
+                // Flags are read once per batch: the overflow happened within it.
+                step: self.step,
+                monomer,
+                limit: self.sizes.pair_slots,
+            }
+            .into());
+        }
+        if let Some(monomer) = raised(layout::FLAG_WALL_SLOTS) {
+            return Err(EngineError::SlotOverflow {
+                kind: "monomer-wall",
+                step: self.step,
+                monomer,
+                limit: self.sizes.wall_slots,
+            }
+            .into());
+        }
+        if let Some(monomer) = raised(layout::FLAG_BUCKET) {
+            return Err(GpuError::BucketOverflow {
+                monomer,
+                capacity: self.sizes.bucket_capacity,
+            });
+        }
+        if let Some(monomer) = raised(layout::FLAG_NEIGHBOURS) {
+            return Err(GpuError::NeighbourOverflow {
+                monomer,
+                capacity: layout::NEIGHBOUR_CAPACITY,
+            });
+        }
+        if let Some(monomer) = raised(layout::FLAG_INCOMING) {
+            return Err(GpuError::IncomingOverflow {
+                monomer,
+                capacity: layout::INCOMING_CAPACITY,
+            });
+        }
+        if let Some(monomer) = raised(layout::FLAG_NON_FINITE) {
+            return Err(EngineError::NonFinite {
+                step: self.step,
+                monomer,
+            }
+            .into());
+        }
+        Ok(())
+    }
+
+    /// Reads the small block now (after [`GpuEngine::dispatch`] of single passes).
+    pub fn refresh_diagnostics(&mut self) -> Result<&Diagnostics, GpuError> {
+        self.read_small()?;
+        Ok(&self.diagnostics)
+    }
+
+    /// The small block as last read (after `new` and after every submission of `run`).
+    pub fn diagnostics(&self) -> &Diagnostics {
+        &self.diagnostics
+    }
+
+    /// Total force each wall exerts on the monomers at the current time.
+    pub fn wall_force(&self) -> &[DVec3] {
+        &self.diagnostics.wall_force
+    }
+
+    pub(super) fn read<T: bytemuck::Pod>(&self, name: &str, count: usize) -> Vec<T> {
+        let bytes = (count * std::mem::size_of::<T>()) as u64;
+        if bytes == 0 {
+            return Vec::new();
+        }
+        let staging = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("state readback"),
+            size: bytes.next_multiple_of(8),
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(
+            self.buffers.get(name),
+            0,
+            &staging,
+            0,
+            bytes.next_multiple_of(8),
+        );
+        self.ctx.queue.submit([encoder.finish()]);
+        // Full-state reads come after a successful read of the small block; a device failing
+        // in between is a narrow race, reported here with what failed.
+        let raw = map_read(&self.ctx, &staging, bytes.next_multiple_of(8))
+            .unwrap_or_else(|e| panic!("reading `{name}` back from the GPU: {e}"));
+        bytemuck::pod_collect_to_vec(&raw[..bytes as usize])
+    }
+
+    /// A per-slot vector array, gathered from its chunk bindings.
+    fn read_slots(&self, array: &str, count: usize) -> Vec<[f64; 4]> {
+        let chunk = self.sizes.slot_chunk();
+        let mut out = Vec::with_capacity(count);
+        for c in 0..layout::SLOT_CHUNKS {
+            let part = count.saturating_sub(c * chunk).min(chunk);
+            if part == 0 {
+                break;
+            }
+            out.extend(self.read::<[f64; 4]>(&format!("{array}_{c}"), part));
+        }
+        out
+    }
+
+    fn read_vec3(&self, name: &str, count: usize) -> Vec<DVec3> {
+        self.read::<[f64; 4]>(name, count)
+            .into_iter()
+            .map(|v| DVec3::new(v[0], v[1], v[2]))
+            .collect()
+    }
+
+    /// Positions at the current time (a full-array readback).
+    pub fn positions(&self) -> Vec<DVec3> {
+        self.read_vec3("position", self.sizes.monomers)
+    }
+
+    /// The monomers as the CPU engine stores them.
+    pub fn monomers(&self) -> Monomers {
+        let n = self.sizes.monomers;
+        let aux: Vec<[f64; 4]> = self.read("aux", n);
+        Monomers {
+            position: self.positions(),
+            velocity: self.read_vec3("velocity", n),
+            angular_velocity: self.read_vec3("angular_velocity", n),
+            force: self.read_vec3("force", n),
+            torque: self.read_vec3("torque", n),
+            damping_force: self.read_vec3("damping_force", n),
+            inverse_mass_scale: aux.iter().map(|a| a[0]).collect(),
+            inverse_inertia_scale: aux.iter().map(|a| a[1]).collect(),
+        }
+    }
+
+    /// The contact history as the CPU engine stores it (slots beyond the counts are whatever
+    /// the device left there).
+    pub fn contacts(&self) -> ContactTable {
+        let n = self.sizes.monomers;
+        let (ps, ws) = (self.sizes.pair_slots, self.sizes.wall_slots);
+        let mut table = ContactTable::new(n, ps, ws);
+        let n1 = self.read_slots("pair_n1", n * ps);
+        let n2 = self.read_slots("pair_n2", n * ps);
+        let partner: Vec<u32> = self.read("pair_partner", n * ps);
+        table.pair_count = self.read("pair_count", n);
+        for (k, c) in table.pair.iter_mut().enumerate() {
+            *c = PairContact {
+                partner: partner[k],
+                n1: DVec3::new(n1[k][0], n1[k][1], n1[k][2]),
+                n2: DVec3::new(n2[k][0], n2[k][1], n2[k][2]),
+                twist: n1[k][3],
+            };
+        }
+        let wn1: Vec<[f64; 4]> = self.read("wall_n1", n * ws);
+        let anchor: Vec<[f64; 4]> = self.read("wall_anchor", n * ws);
+        let wall_id: Vec<u32> = self.read("wall_id", n * ws);
+        table.wall_count = self.read("wall_count", n);
+        for (k, c) in table.wall.iter_mut().enumerate() {
+            *c = WallContact {
+                wall: wall_id[k],
+                n1: DVec3::new(wn1[k][0], wn1[k][1], wn1[k][2]),
+                anchor: DVec3::new(anchor[k][0], anchor[k][1], anchor[k][2]),
+                twist: wn1[k][3],
+            };
+        }
+        table
+    }
+
+    /// Force of every wall-contact slot on its wall (`i * wall_slots + slot`), as the walls
+    /// pass left it for the reduction.
+    pub fn slot_wall_forces(&self) -> Vec<DVec3> {
+        self.read_vec3("wall_force", self.sizes.monomers * self.sizes.wall_slots)
+    }
+
+    /// Walls with their current points as the device holds them.
+    pub fn current_walls(&self) -> Vec<Wall> {
+        let gpu: Vec<GpuWall> = self.read("walls", self.walls.len());
+        self.walls
+            .iter()
+            .zip(gpu)
+            .map(|(w, g)| Wall {
+                point: DVec3::new(g.point[0], g.point[1], g.point[2]),
+                ..w.clone()
+            })
+            .collect()
+    }
+
+    /// Per-monomer energy tallies (the seven dissipation channels, then the wall work) since
+    /// the small block was last read.
+    pub fn monomer_tallies(&self) -> Vec<[f64; layout::TALLY_STRIDE]> {
+        self.read("tally", self.sizes.monomers)
+    }
+}
+
+/// Maps `buffer` (MAP_READ), waits, and copies out its first `bytes` bytes; a failed device
+/// is an error, not a panic.
+pub(super) fn map_read(
+    ctx: &GpuContext,
+    buffer: &wgpu::Buffer,
+    bytes: u64,
+) -> Result<Vec<u8>, GpuError> {
+    let slice = buffer.slice(..bytes);
+    let mapped = std::sync::Arc::new(std::sync::Mutex::new(None));
+    let done = std::sync::Arc::clone(&mapped);
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        *done.lock().unwrap_or_else(|p| p.into_inner()) = Some(r);
+    });
+    let polled = ctx.device.poll(wgpu::PollType::wait_indefinitely());
+    let failed = |why: String| Err(GpuError::DeviceLost(ctx.failure().unwrap_or(why)));
+    if let Err(e) = polled {
+        return failed(e.to_string());
+    }
+    let result = mapped.lock().unwrap_or_else(|p| p.into_inner()).take();
+    match result {
+        Some(Ok(())) => {}
+        Some(Err(e)) => return failed(format!("mapping a readback buffer: {e}")),
+        None => return failed("a readback never completed".into()),
+    }
+    if let Some(why) = ctx.failure() {
+        return Err(GpuError::DeviceLost(why));
+    }
+    let out = match slice.get_mapped_range() {
+        Ok(view) => view.to_vec(),
+        Err(e) => return failed(format!("reading a mapped buffer: {e}")),
+    };
+    buffer.unmap();
+    Ok(out)
+}

@@ -1,0 +1,139 @@
+//! Writing a state to the device: parameters, walls, monomers, the contact table, and the lists
+//! of a finished step (empty event lists, the pair-contact list of every contact).
+
+use super::{groups, GpuEngine};
+use crate::backend::gpu::kernels::Kernel;
+use crate::backend::gpu::layout::{self, vec4, GpuConstants, GpuWall};
+use crate::state::interaction::wall_interaction;
+use crate::state::{ContactTable, Monomers};
+use glam::DVec3;
+
+impl GpuEngine {
+    pub(super) fn write<T: bytemuck::Pod>(&self, name: &str, data: &[T]) {
+        if !data.is_empty() {
+            self.ctx
+                .queue
+                .write_buffer(self.buffers.get(name), 0, bytemuck::cast_slice(data));
+        }
+    }
+
+    /// Writes a per-slot vector array to its chunk bindings.
+    fn write_slots(&self, array: &str, data: &[[f64; 4]]) {
+        for (c, part) in data.chunks(self.sizes.slot_chunk()).enumerate() {
+            self.write(&format!("{array}_{c}"), part);
+        }
+    }
+
+    /// Writes the whole state to the device; tallies, flags and the diagnostics block start
+    /// from zero (flags from "none").
+    pub fn upload(&mut self, m: &Monomers, table: &ContactTable) {
+        let n = m.len();
+        let v4 = |v: &[DVec3]| v.iter().map(|x| vec4(*x)).collect::<Vec<_>>();
+        self.write("params", &[self.params()]);
+        let walls: Vec<GpuWall> = self
+            .walls
+            .iter()
+            .map(|w| GpuWall {
+                point: vec4(w.point),
+                normal: vec4(w.normal),
+                velocity: vec4(w.velocity),
+                k: GpuConstants::from(w.constants),
+            })
+            .collect();
+        self.write("walls", &walls);
+        self.write("position", &v4(&m.position));
+        self.write("velocity", &v4(&m.velocity));
+        self.write("angular_velocity", &v4(&m.angular_velocity));
+        self.write("force", &v4(&m.force));
+        self.write("torque", &v4(&m.torque));
+        self.write("damping_force", &v4(&m.damping_force));
+        // The previous step's wall powers of each monomer (Σ_w F·v_w dt and its damping part).
+        let mut aux = Vec::with_capacity(n);
+        for i in 0..n {
+            let (mut p, mut q) = (0.0, 0.0);
+            for c in table.walls_of(i) {
+                let w = &self.walls[c.wall as usize];
+                let (f, fd, _) = wall_interaction(&self.law, m.position[i], m.velocity[i], w, c);
+                p += f.dot(w.velocity * self.dt);
+                q += fd.dot(w.velocity * self.dt);
+            }
+            aux.push([m.inverse_mass_scale[i], m.inverse_inertia_scale[i], p, q]);
+        }
+        self.write("aux", &aux);
+        self.write("tally", &vec![0.0f64; n * layout::TALLY_STRIDE]);
+        let n1: Vec<[f64; 4]> = table
+            .pair
+            .iter()
+            .map(|c| [c.n1.x, c.n1.y, c.n1.z, c.twist])
+            .collect();
+        let n2: Vec<[f64; 4]> = table.pair.iter().map(|c| vec4(c.n2)).collect();
+        let partner: Vec<u32> = table.pair.iter().map(|c| c.partner).collect();
+        self.write_slots("pair_n1", &n1);
+        self.write_slots("pair_n2", &n2);
+        self.write("pair_partner", &partner);
+        self.write("pair_count", &table.pair_count);
+        let wn1: Vec<[f64; 4]> = table
+            .wall
+            .iter()
+            .map(|c| [c.n1.x, c.n1.y, c.n1.z, c.twist])
+            .collect();
+        let anchor: Vec<[f64; 4]> = table.wall.iter().map(|c| vec4(c.anchor)).collect();
+        let wall_id: Vec<u32> = table.wall.iter().map(|c| c.wall).collect();
+        self.write("wall_n1", &wn1);
+        self.write("wall_anchor", &anchor);
+        self.write("wall_id", &wall_id);
+        self.write("wall_count", &table.wall_count);
+        self.write("incoming_count", &vec![0u32; n]);
+        // The candidate lists are built at the first neighbour passes.
+        let mut flags = [layout::NO_MONOMER; layout::FLAG_COUNT];
+        flags[layout::FLAG_REBUILD] = 0;
+        self.write("flags", &flags);
+        self.write("neighbour_count", &vec![0u32; n]);
+        self.write("reference_position", &v4(&m.position));
+        self.write("diag", &[0.0f64; layout::DIAG_SIZE]);
+        // The lists of a finished step: event lists empty (no entries, dispatches of no
+        // workgroups), the pair-contact list holding every contact of the table.
+        let contact_list: Vec<u32> = (0..n)
+            .flat_map(|i| {
+                let first = (i * table.pair_slots) as u32;
+                first..first + table.pair_count[i]
+            })
+            .collect();
+        let pair_groups =
+            (contact_list.len().div_ceil(layout::PAIR_GROUP) as u32).min(self.work_groups_max);
+        self.write("contact_list", &contact_list);
+        let mut work = [0u32; layout::WORK_LISTS];
+        work[layout::WORK_PAIRS] = contact_list.len() as u32;
+        self.write("work", &work);
+        let mut args = [0u32, 1, 1].repeat(layout::ARGS_REBUILD + 1);
+        args[3 * layout::WORK_PAIRS] = pair_groups;
+        // The candidate lists are built at the first neighbour passes (FLAG_REBUILD above).
+        args[3 * layout::ARGS_REBUILD] = groups(n);
+        self.write("work_args", &args);
+        // The pair contacts' tests for a first contacts_scan, which no integrate_pairs precedes.
+        self.write("pair_tests", &vec![0u32; n]);
+        self.dispatch(&[Kernel::ContactsPairTests]);
+    }
+
+    /// Empties the work lists, as integrate_drift does before each step's scan (tests that
+    /// run contacts_scan on an uploaded state, whose lists are those of a finished step).
+    pub fn clear_work_lists(&self) {
+        self.write("work", &[0u32; layout::WORK_LISTS]);
+        self.write("work_args", &[0u32, 1, 1].repeat(layout::WORK_LISTS));
+    }
+
+    /// Lowers the most workgroups a pass over a work list is dispatched with, so that tests
+    /// on small systems walk the lists with a stride as the largest systems do.
+    pub fn limit_work_groups(&mut self, max: u32) {
+        self.work_groups_max = max.clamp(1, self.work_groups_max);
+        self.write("params", &[self.params()]);
+        // The pair-contact list's dispatch as contacts_scan would size it now.
+        let pairs = self.read::<u32>("work", layout::WORK_LISTS)[layout::WORK_PAIRS];
+        let groups = (pairs as usize).div_ceil(layout::PAIR_GROUP) as u32;
+        self.ctx.queue.write_buffer(
+            self.buffers.get("work_args"),
+            (12 * layout::WORK_PAIRS) as u64,
+            bytemuck::cast_slice(&[groups.min(self.work_groups_max)]),
+        );
+    }
+}

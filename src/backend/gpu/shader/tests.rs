@@ -1,0 +1,156 @@
+//! The registry matches the files, every file validates, and errors point at the file a
+//! person edits.
+
+use super::*;
+use std::collections::BTreeSet;
+use std::path::Path;
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn wgsl_files(dir: &str) -> BTreeSet<String> {
+    std::fs::read_dir(root().join(dir))
+        .unwrap()
+        .filter_map(|e| {
+            let name = e.unwrap().file_name().into_string().unwrap();
+            name.ends_with(".wgsl").then(|| format!("{dir}/{name}"))
+        })
+        .collect()
+}
+
+fn all_files() -> impl Iterator<Item = &'static Source> {
+    PASSES.iter().chain(PROBES).chain(MODEL).chain(ENGINE)
+}
+
+#[test]
+fn every_shader_file_is_registered() {
+    let paths =
+        |list: &[Source]| -> BTreeSet<String> { list.iter().map(|s| s.path.to_string()).collect() };
+    assert_eq!(paths(MODEL), wgsl_files("shaders/model"));
+    assert_eq!(paths(ENGINE), wgsl_files("shaders/engine"));
+    assert_eq!(paths(PASSES), wgsl_files("shaders/passes"));
+    assert_eq!(paths(PROBES), wgsl_files("shaders/probes"));
+    assert!(
+        wgsl_files("shaders").is_empty(),
+        "WGSL files directly in shaders/"
+    );
+}
+
+#[test]
+fn every_pass_and_module_validates() {
+    for file in all_files() {
+        let assembled = assemble(file, &modules()).unwrap_or_else(|e| panic!("{e}"));
+        if let Err(e) = assembled.validate() {
+            panic!("{e}");
+        }
+    }
+}
+
+#[test]
+fn model_modules_are_import_only() {
+    for module in MODEL {
+        let (m, _) = assemble(module, MODEL).unwrap().validate().unwrap();
+        assert!(m.entry_points.is_empty(), "{}: entry point", module.path);
+        assert!(m.global_variables.is_empty(), "{}: global", module.path);
+    }
+}
+
+#[test]
+fn requirements_come_first_and_once() {
+    for file in all_files() {
+        let a = assemble(file, &modules()).unwrap();
+        let order: Vec<_> = a.segments.iter().map(|s| s.path).collect();
+        assert_eq!(*order.last().unwrap(), file.path);
+        let unique: BTreeSet<_> = order.iter().collect();
+        assert_eq!(unique.len(), order.len(), "{order:?}");
+        for (i, path) in order.iter().enumerate() {
+            let module = all_files().find(|s| s.path == *path).unwrap();
+            for dep in module.requires() {
+                let at = order.iter().position(|p| {
+                    MODEL
+                        .iter()
+                        .chain(ENGINE)
+                        .any(|m| m.path == *p && m.name() == dep)
+                });
+                assert!(
+                    at.is_some_and(|at| at < i),
+                    "{path} needs {dep} first: {order:?}"
+                );
+            }
+        }
+    }
+}
+
+const TOY_MODULES: &[Source] = &[
+    Source {
+        path: "shaders/model/a.wgsl",
+        text: "// requires: b\nfn a() -> f32 { return b(); }\n",
+    },
+    Source {
+        path: "shaders/model/b.wgsl",
+        text: "// One line of prose first.\n// requires: a\nfn b() -> f32 { return 1.0; }\n",
+    },
+    Source {
+        path: "shaders/model/broken.wgsl",
+        text: "// A module with a type error on line 4.\n\nfn ok() -> f32 { return 1.0; }\nfn bad() -> f32 { return 1u; }\n",
+    },
+];
+
+#[test]
+fn errors_name_the_file_and_line() {
+    let pass = Source {
+        path: "shaders/toy.wgsl",
+        text: "// requires: broken\n@compute @workgroup_size(1)\nfn main() { _ = ok(); }\n",
+    };
+    let err = assemble(&pass, TOY_MODULES)
+        .unwrap()
+        .validate()
+        .unwrap_err();
+    let shown = err.to_string();
+    assert!(
+        shown.starts_with("shaders/model/broken.wgsl:4:"),
+        "error does not point at broken.wgsl line 4:\n{shown}"
+    );
+
+    let pass = Source {
+        path: "shaders/toy.wgsl",
+        text: "// requires: broken\n\nfn main() { let x = ; }\n",
+    };
+    let shown = assemble(&pass, TOY_MODULES)
+        .unwrap()
+        .validate()
+        .unwrap_err()
+        .to_string();
+    assert!(shown.starts_with("shaders/toy.wgsl:3:"), "{shown}");
+}
+
+#[test]
+fn cycles_and_unknown_modules_are_errors() {
+    let pass = Source {
+        path: "shaders/toy.wgsl",
+        text: "// requires: a\n",
+    };
+    match assemble(&pass, TOY_MODULES) {
+        Err(ShaderError::Cycle(chain)) => assert_eq!(chain.len(), 3, "{chain:?}"),
+        other => panic!("expected a cycle, got {other:?}"),
+    }
+    let pass = Source {
+        path: "shaders/toy.wgsl",
+        text: "// requires: nowhere\n",
+    };
+    let err = assemble(&pass, TOY_MODULES).unwrap_err().to_string();
+    assert!(
+        err.contains("shaders/toy.wgsl") && err.contains("nowhere"),
+        "{err}"
+    );
+}
+
+#[test]
+fn requires_lines_stop_at_the_first_code_line() {
+    let s = Source {
+        path: "x.wgsl",
+        text: "// requires: a b\n//\n// requires: c\nfn f() {}\n// requires: d\n",
+    };
+    assert_eq!(s.requires(), ["a", "b", "c"]);
+}

@@ -1,0 +1,150 @@
+//! The command line's grammar: subcommands, their arguments and help texts (clap).
+
+use crate::calibrate::measured::Geometry;
+use crate::job::Backend;
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+
+#[derive(Parser)]
+#[command(
+    name = "dustdem",
+    version,
+    about = "Molecular dynamics of porous dust agglomerates"
+)]
+pub(super) struct Cli {
+    /// Let the libraries behind the GPU probe (Vulkan loader, Mesa's layers, drivers) print
+    /// on stderr; otherwise the probe gets a private XDG_RUNTIME_DIR where none is usable,
+    /// which keeps their display-related messages away.
+    #[arg(short, long, global = true)]
+    pub(super) verbose: bool,
+    #[command(subcommand)]
+    pub(super) command: Command,
+}
+
+#[derive(Subcommand)]
+pub(super) enum Command {
+    /// Run an experiment; without a config, the built-in omni_quick job.
+    Run {
+        config: Option<PathBuf>,
+        /// Output directory (overrides [output] dir).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Engine: cpu (f64 reference), gpu (WGSL on an adapter with f64) or auto (a hardware
+        /// GPU when one fits, else cpu; software adapters such as lavapipe only with gpu).
+        #[arg(long, default_value = "auto")]
+        backend: Backend,
+        /// Replace the results of an earlier run in the output directory: once the new run is
+        /// set up, its checkpoints, snapshots and result files (only files dustdem writes) are
+        /// removed. Without it such a directory is refused.
+        #[arg(long)]
+        force: bool,
+        #[command(flatten)]
+        report: ReportArgs,
+    },
+    /// Continue a run from its checkpoint, appending to its outputs.
+    Resume {
+        checkpoint: PathBuf,
+        /// Engine to continue on: cpu, gpu or auto (as for `run`). Continuing on the backend
+        /// that wrote the checkpoint gives the same bits as an uninterrupted run.
+        #[arg(long, default_value = "auto")]
+        backend: Backend,
+        #[command(flatten)]
+        report: ReportArgs,
+    },
+    /// Generate the sample a config describes and write it to a sample file.
+    Generate {
+        config: Option<PathBuf>,
+        #[arg(long, default_value = "sample.txt")]
+        out: PathBuf,
+    },
+    /// Fit Eq. 13 to a curve CSV (columns p_top_pa and phi).
+    Fit {
+        curve: PathBuf,
+        /// Fix φ₁ instead of fitting it.
+        #[arg(long)]
+        phi1: Option<f64>,
+        /// Fix φ₂ instead of fitting it.
+        #[arg(long)]
+        phi2: Option<f64>,
+        /// Use only points with P ≥ this [Pa].
+        #[arg(long, default_value_t = 0.0)]
+        p_min: f64,
+    },
+    /// Print the material, derived and model constants of a config, and the GPU adapter.
+    Info {
+        config: Option<PathBuf>,
+        /// N for the GPU memory estimate (default: the config's sample size).
+        #[arg(long)]
+        monomers: Option<usize>,
+    },
+    /// Compare a config with measured data and name the effect that explains the gap; writes
+    /// report.md, calibration.png and corrected.toml.
+    Calibrate {
+        /// Measured-data file (see configs/measured/); repeat it to fit the curves of several
+        /// files jointly.
+        #[arg(long, required = true)]
+        measured: Vec<PathBuf>,
+        /// Base config: material, model, sample size, wall speed, time step.
+        #[arg(long)]
+        config: PathBuf,
+        #[arg(long, default_value = "runs/calibration")]
+        out: PathBuf,
+        /// RBD sample seeds; each compression curve is simulated once per seed.
+        #[arg(long, value_delimiter = ',', default_value = "1,2,3")]
+        seeds: Vec<u64>,
+        /// Effects added one after the other at most.
+        #[arg(long, default_value_t = 2)]
+        rounds: usize,
+        /// Simulation threads (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
+    },
+    /// Write measured-like data from the simulator, with effects switched on and noise added.
+    Synth {
+        /// Base config (sample size, wall speed, time step, model).
+        #[arg(long)]
+        config: PathBuf,
+        /// An effect and its factor, e.g. rolling_stiffness=8 (repeatable).
+        #[arg(long)]
+        effect: Vec<String>,
+        /// Compression curves to write: omni, uni or both.
+        #[arg(long, value_delimiter = ',', default_value = "omni")]
+        geometry: Vec<Geometry>,
+        /// Leave out the sticking velocity.
+        #[arg(long)]
+        no_sticking: bool,
+        /// RBD sample seeds averaged per curve.
+        #[arg(long, value_delimiter = ',', default_value = "101,102,103")]
+        seeds: Vec<u64>,
+        #[arg(long, default_value_t = 1e2)]
+        p_min: f64,
+        #[arg(long, default_value_t = 1e5)]
+        p_max: f64,
+        /// Points per curve.
+        #[arg(long, default_value_t = 10)]
+        points: usize,
+        /// 1-sigma noise added to each filling factor.
+        #[arg(long, default_value_t = 0.005)]
+        noise: f64,
+        /// Relative 1-sigma noise of the sticking velocity.
+        #[arg(long, default_value_t = 0.05)]
+        sticking_noise: f64,
+        #[arg(long, default_value_t = 1)]
+        noise_seed: u64,
+        #[arg(long)]
+        out: PathBuf,
+        #[arg(long)]
+        threads: Option<usize>,
+    },
+}
+
+#[derive(clap::Args)]
+pub(super) struct ReportArgs {
+    /// Print only the summary.
+    #[arg(long)]
+    pub(super) quiet: bool,
+    /// One `key=value` line per row on stderr instead of a progress bar (for scripts and
+    /// cluster logs).
+    #[arg(long)]
+    pub(super) log_lines: bool,
+}

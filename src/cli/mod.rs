@@ -1,0 +1,91 @@
+//! The dustdem command line: `args` (the grammar), `commands` (what each subcommand does),
+//! `progress` (bars, log lines, signals, summaries). `main.rs` only calls [`main`].
+
+mod args;
+mod commands;
+mod progress;
+
+use crate::calibrate::synth::SynthSpec;
+use crate::job::{Backend, PrivateRuntimeDir};
+use args::{Cli, Command};
+use clap::Parser;
+use commands::{calibrate, fit, generate, info, resume, run, synth};
+use std::process::ExitCode;
+
+/// Parses the command line and runs the command; errors are printed, exit status 2.
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    // Only these look for a GPU (`--backend cpu` never does). Before any thread starts.
+    let probes = match &cli.command {
+        Command::Run { backend, .. } | Command::Resume { backend, .. } => *backend != Backend::Cpu,
+        Command::Info { .. } => true,
+        _ => false,
+    };
+    let _runtime_dir = (probes && !cli.verbose)
+        .then(PrivateRuntimeDir::ensure)
+        .flatten();
+    let result = match cli.command {
+        Command::Run {
+            config,
+            out,
+            backend,
+            force,
+            report,
+        } => run(config, out, backend, force, report),
+        Command::Resume {
+            checkpoint,
+            backend,
+            report,
+        } => resume(checkpoint, backend, report),
+        Command::Generate { config, out } => generate(config, out),
+        Command::Fit {
+            curve,
+            phi1,
+            phi2,
+            p_min,
+        } => fit(curve, phi1, phi2, p_min),
+        Command::Info { config, monomers } => info(config, monomers),
+        Command::Calibrate {
+            measured,
+            config,
+            out,
+            seeds,
+            rounds,
+            threads,
+        } => calibrate(&measured, &config, &out, seeds, rounds, threads),
+        Command::Synth {
+            config,
+            effect,
+            geometry,
+            no_sticking,
+            seeds,
+            p_min,
+            p_max,
+            points,
+            noise,
+            sticking_noise,
+            noise_seed,
+            out,
+            threads,
+        } => {
+            let spec = SynthSpec {
+                geometries: geometry,
+                sticking: !no_sticking,
+                seeds,
+                pressure_range: (p_min, p_max),
+                points,
+                phi_noise: noise,
+                sticking_noise,
+                noise_seed,
+            };
+            synth(&config, &effect, &spec, threads, &out)
+        }
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::from(2)
+        }
+    }
+}

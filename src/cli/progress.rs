@@ -1,0 +1,74 @@
+//! How a running job shows itself: a progress bar on a terminal, `key=value` lines for scripts,
+//! the signal flag that stops a run at its next checkpoint, and the summary printed at the end.
+
+use super::args::ReportArgs;
+use crate::job::{JobSummary, Progress};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+
+/// Shows progress as a bar (on a terminal), as machine-readable lines, or not at all.
+pub(super) struct Reporter {
+    bar: Option<ProgressBar>,
+    log_lines: bool,
+}
+
+impl Reporter {
+    pub(super) fn new(args: &ReportArgs) -> Self {
+        let bar = (!args.quiet && !args.log_lines).then(|| {
+            let bar = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::stderr());
+            bar.set_style(
+                ProgressStyle::with_template("{bar:30} {percent:>3}% eta {eta} | {msg}")
+                    .expect("valid template"),
+            );
+            bar
+        });
+        Reporter {
+            bar,
+            log_lines: args.log_lines && !args.quiet,
+        }
+    }
+
+    pub(super) fn report(&self, p: &Progress) {
+        let r = p.row;
+        if let Some(bar) = &self.bar {
+            bar.set_position((p.fraction * 1000.0) as u64);
+            bar.set_message(format!(
+                "step {} | {:.3e} steps/s | phi {:.4} | P {:.3e} Pa",
+                r.step, p.steps_per_second, r.phi, r.p_top
+            ));
+        }
+        if self.log_lines {
+            eprintln!(
+                "row step={} time_s={:e} phi={} p_top_pa={:e} p_bottom_pa={:e} contacts={} steps_per_s={:.4e} progress={:.4}",
+                r.step, r.time, r.phi, r.p_top, r.p_bottom, r.contacts, p.steps_per_second, p.fraction
+            );
+        }
+    }
+
+    pub(super) fn finish(&self) {
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
+        }
+    }
+}
+
+/// SIGINT and SIGTERM raise this flag; the run checkpoints at the next row and stops.
+pub(super) fn interrupt_flag() -> Arc<AtomicBool> {
+    let flag = Arc::new(AtomicBool::new(false));
+    for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+        // If a handler cannot be installed the run simply cannot be interrupted cleanly.
+        let _ = signal_hook::flag::register(signal, Arc::clone(&flag));
+    }
+    flag
+}
+
+pub(super) fn print_summary(summary: &JobSummary) {
+    for line in &summary.lines {
+        println!("{line}");
+    }
+    println!("results in {}:", summary.out_dir.display());
+    for f in &summary.files {
+        println!("  {}", f.display());
+    }
+}

@@ -1,8 +1,0 @@
-//! Output files: figures, tables, atomic writes.
-pub mod atomic;
-pub mod binary;
-pub mod checkpoint;
-pub mod csv;
-pub mod plot;
-pub mod run_dir;
-pub mod snapshot;
