@@ -7,8 +7,11 @@ use crate::calibrate::synth::{write_synth, SynthSpec};
 use crate::calibrate::{parse_effect, run_calibration, Settings};
 use crate::config::{stable_time_step, Config};
 use crate::experiment::collision::analytic_sticking_speed;
+use crate::experiment::compression::RunError;
 use crate::experiment::setup::build_sample;
-use crate::job::{gpu_report, resume_job, run_job, Backend, JobOptions, Progress, DEFAULT_CONFIG};
+use crate::job::{
+    gpu_report, resume_job, run_job, Backend, JobOptions, JobSummary, Progress, DEFAULT_CONFIG,
+};
 use crate::material::{
     chokshi_sticking_velocity, normal_period, rolling_energy_quarter_turn, sliding_period, Derived,
 };
@@ -32,25 +35,9 @@ pub(super) fn run(
 ) -> Result<(), String> {
     let config = load_config(config.as_deref())?;
     let out_dir = out.unwrap_or_else(|| config.output.dir.clone());
-    let reporter = Reporter::new(&args);
-    let flag = interrupt_flag();
-    let mut progress = |p: &Progress| reporter.report(p);
-    let quiet = args.quiet;
-    let mut notice = |line: &str| {
-        if !quiet {
-            eprintln!("{line}");
-        }
-    };
-    let mut options = JobOptions {
-        progress: &mut progress,
-        interrupt: Some(&flag),
-        backend,
-        notice: &mut notice,
-    };
-    let result = run_job(&config, &out_dir, force, &mut options);
-    reporter.finish();
-    print_summary(&result.map_err(|e| e.to_string())?);
-    Ok(())
+    drive(backend, &args, |options| {
+        run_job(&config, &out_dir, force, options)
+    })
 }
 
 pub(super) fn resume(
@@ -58,7 +45,17 @@ pub(super) fn resume(
     backend: Backend,
     args: ReportArgs,
 ) -> Result<(), String> {
-    let reporter = Reporter::new(&args);
+    drive(backend, &args, |options| resume_job(&checkpoint, options))
+}
+
+/// Runs a job with the progress reporting, interrupt flag and notices of the command line,
+/// then prints its summary (shared by `run` and `resume`).
+fn drive(
+    backend: Backend,
+    args: &ReportArgs,
+    job: impl FnOnce(&mut JobOptions) -> Result<JobSummary, RunError>,
+) -> Result<(), String> {
+    let reporter = Reporter::new(args);
     let flag = interrupt_flag();
     let mut progress = |p: &Progress| reporter.report(p);
     let quiet = args.quiet;
@@ -73,7 +70,7 @@ pub(super) fn resume(
         backend,
         notice: &mut notice,
     };
-    let result = resume_job(&checkpoint, &mut options);
+    let result = job(&mut options);
     reporter.finish();
     print_summary(&result.map_err(|e| e.to_string())?);
     Ok(())
