@@ -44,7 +44,13 @@ pub struct ContactTable {
 }
 
 impl ContactTable {
+    /// A table with no contacts. Slots per monomer must be at least 1 (the configuration checks
+    /// this; the passes split the table into rows of that length).
     pub fn new(n: usize, pair_slots: usize, wall_slots: usize) -> Self {
+        assert!(
+            pair_slots >= 1 && wall_slots >= 1,
+            "contact slots per monomer must be at least 1 (pair {pair_slots}, wall {wall_slots})"
+        );
         let empty_pair = PairContact {
             partner: u32::MAX,
             n1: DVec3::ZERO,

@@ -10,6 +10,7 @@
 
 use super::ContactTable;
 use glam::DVec3;
+use rayon::prelude::*;
 
 /// Consecutive monomers whose wall-contact forces one partial sum holds.
 pub const REDUCE_BLOCK: usize = 64;
@@ -24,7 +25,9 @@ pub const TALLY_STRIDE: usize = 8;
 /// monomers (`reduce_walls`), then the blocks in order (`reduce_walls_final`).
 pub fn reduce_walls(table: &ContactTable, slot_force: &[DVec3], wall_count: usize) -> Vec<DVec3> {
     let n = table.wall_count.len();
+    // Blocks in parallel (collected in block order), then the blocks in order.
     let partials: Vec<Vec<DVec3>> = (0..n.div_ceil(REDUCE_BLOCK))
+        .into_par_iter()
         .map(|block| {
             let mut sums = vec![DVec3::ZERO; wall_count];
             for i in block * REDUCE_BLOCK..((block + 1) * REDUCE_BLOCK).min(n) {

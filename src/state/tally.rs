@@ -45,6 +45,17 @@ impl Dissipation {
         }
     }
 
+    /// Adds another tally channel by channel.
+    pub fn add(&mut self, other: &Dissipation) {
+        self.breaking += other.breaking;
+        self.forming += other.forming;
+        self.damping += other.damping;
+        self.rolling += other.rolling;
+        self.sliding += other.sliding;
+        self.twisting += other.twisting;
+        self.walls += other.walls;
+    }
+
     pub fn total(&self) -> f64 {
         self.breaking
             + self.forming

@@ -1,12 +1,27 @@
 //! Contact maintenance pass: breaks stretched contacts (δ < −δ_c) and forms new ones (δ ≥ 0),
 //! keeping the history (pointers, twist, wall anchor) of every contact that persists.
+//!
+//! Every change is to the owner's own row of the table, so owners run in parallel (in fixed
+//! chunks, each summing its dissipation in owner order); a row's events are the same whatever
+//! the thread count.
 
+use super::workspace::{sum_in_order, CHUNK};
 use crate::engine::EngineError;
 use crate::model::{wall as wall_law, ContactLaw};
 use crate::state::interaction::{pair_step_energy, wall_step_energy};
 use crate::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
+use rayon::prelude::*;
 
-/// Removes broken contacts and adds new ones; `candidates` are the neighbour-list pairs.
+/// One owner's row of the table.
+struct Row<'a> {
+    pair: &'a mut [PairContact],
+    pair_count: &'a mut u32,
+    wall: &'a mut [WallContact],
+    wall_count: &'a mut u32,
+}
+
+/// Removes broken contacts and adds new ones; `candidates` are the neighbour-list pairs
+/// (i < j, sorted).
 pub fn contacts(
     law: &ContactLaw,
     dt: f64,
@@ -16,55 +31,113 @@ pub fn contacts(
     table: &mut ContactTable,
     tally: &mut Dissipation,
 ) -> Result<(), EngineError> {
+    let (ps, ws) = (table.pair_slots, table.wall_slots);
+    let chunks: Vec<Result<Dissipation, EngineError>> = (
+        table.pair.par_chunks_mut(CHUNK * ps),
+        table.pair_count.par_chunks_mut(CHUNK),
+        table.wall.par_chunks_mut(CHUNK * ws),
+        table.wall_count.par_chunks_mut(CHUNK),
+    )
+        .into_par_iter()
+        .enumerate()
+        .map(|(chunk, (pairs, pair_counts, wall_rows, wall_counts))| {
+            let mut dissipated = Dissipation::default();
+            for (k, (pair_count, wall_count)) in pair_counts
+                .iter_mut()
+                .zip(wall_counts.iter_mut())
+                .enumerate()
+            {
+                let i = chunk * CHUNK + k;
+                let mut row = Row {
+                    pair: &mut pairs[k * ps..(k + 1) * ps],
+                    pair_count,
+                    wall: &mut wall_rows[k * ws..(k + 1) * ws],
+                    wall_count,
+                };
+                owner_contacts(
+                    law,
+                    dt,
+                    monomers,
+                    walls,
+                    candidates,
+                    i,
+                    &mut row,
+                    &mut dissipated,
+                )?;
+            }
+            Ok(dissipated)
+        })
+        .collect();
+    let mut sums = Vec::with_capacity(chunks.len());
+    for c in chunks {
+        sums.push(c?);
+    }
+    tally.add(&sum_in_order(&sums));
+    Ok(())
+}
+
+/// The candidates owned by monomer `i` (the list is sorted by owner).
+fn candidates_of(candidates: &[(u32, u32)], i: usize) -> &[(u32, u32)] {
+    let i = i as u32;
+    let start = candidates.partition_point(|&(a, _)| a < i);
+    let end = start + candidates[start..].partition_point(|&(a, _)| a == i);
+    &candidates[start..end]
+}
+
+/// Breaks, then forms, the pair and wall contacts of owner `i`.
+#[allow(clippy::too_many_arguments)]
+fn owner_contacts(
+    law: &ContactLaw,
+    dt: f64,
+    monomers: &Monomers,
+    walls: &[Wall],
+    candidates: &[(u32, u32)],
+    i: usize,
+    row: &mut Row,
+    tally: &mut Dissipation,
+) -> Result<(), EngineError> {
     let r = law.radius;
     let pos = &monomers.position;
-    let n = monomers.len();
     // Break.
-    for i in 0..n {
-        let mut slot = 0;
-        while slot < table.pair_count[i] as usize {
-            let idx = i * table.pair_slots + slot;
-            let c = table.pair[idx];
-            let delta = 2.0 * r - (pos[i] - pos[c.partner as usize]).length();
-            if delta < -law.pair.delta_c {
-                tally.breaking += pair_step_energy(law, monomers, dt, i, &c);
-                let last = i * table.pair_slots + table.pair_count[i] as usize - 1;
-                table.pair[idx] = table.pair[last];
-                table.pair_count[i] -= 1;
-            } else {
-                slot += 1;
-            }
+    let mut slot = 0;
+    while slot < *row.pair_count as usize {
+        let c = row.pair[slot];
+        let delta = 2.0 * r - (pos[i] - pos[c.partner as usize]).length();
+        if delta < -law.pair.delta_c {
+            tally.breaking += pair_step_energy(law, monomers, dt, i, &c);
+            row.pair[slot] = row.pair[*row.pair_count as usize - 1];
+            *row.pair_count -= 1;
+        } else {
+            slot += 1;
         }
-        let mut slot = 0;
-        while slot < table.wall_count[i] as usize {
-            let idx = i * table.wall_slots + slot;
-            let c = table.wall[idx];
-            let w = &walls[c.wall as usize];
-            let delta = wall_law::wall_overlap(pos[i], w.point, w.normal, r);
-            if delta < -w.constants.delta_c {
-                tally.walls += wall_step_energy(law, monomers, dt, i, w, &c);
-                let last = i * table.wall_slots + table.wall_count[i] as usize - 1;
-                table.wall[idx] = table.wall[last];
-                table.wall_count[i] -= 1;
-            } else {
-                slot += 1;
-            }
+    }
+    let mut slot = 0;
+    while slot < *row.wall_count as usize {
+        let c = row.wall[slot];
+        let w = &walls[c.wall as usize];
+        let delta = wall_law::wall_overlap(pos[i], w.point, w.normal, r);
+        if delta < -w.constants.delta_c {
+            tally.walls += wall_step_energy(law, monomers, dt, i, w, &c);
+            row.wall[slot] = row.wall[*row.wall_count as usize - 1];
+            *row.wall_count -= 1;
+        } else {
+            slot += 1;
         }
     }
     // Form.
-    for &(i, j) in candidates {
-        let (iu, ju) = (i as usize, j as usize);
-        let d = pos[iu] - pos[ju];
+    for &(_, j) in candidates_of(candidates, i) {
+        let d = pos[i] - pos[j as usize];
         let distance = d.length();
-        if 2.0 * r - distance < 0.0 || table.has_pair(iu, j) {
+        let count = *row.pair_count as usize;
+        if 2.0 * r - distance < 0.0 || row.pair[..count].iter().any(|c| c.partner == j) {
             continue;
         }
-        if table.pair_count[iu] as usize >= table.pair_slots {
+        if count >= row.pair.len() {
             return Err(EngineError::SlotOverflow {
                 kind: "monomer-monomer",
                 step: 0,
-                monomer: iu,
-                limit: table.pair_slots,
+                monomer: i,
+                limit: row.pair.len(),
             });
         }
         let nc = d / distance;
@@ -74,35 +147,35 @@ pub fn contacts(
             n2: nc,
             twist: 0.0,
         };
-        tally.forming -= pair_step_energy(law, monomers, dt, iu, &c);
-        table.pair[iu * table.pair_slots + table.pair_count[iu] as usize] = c;
-        table.pair_count[iu] += 1;
+        tally.forming -= pair_step_energy(law, monomers, dt, i, &c);
+        row.pair[count] = c;
+        *row.pair_count += 1;
     }
-    for i in 0..n {
-        for (w_idx, w) in walls.iter().enumerate() {
-            let w_id = w_idx as u32;
-            if wall_law::wall_overlap(pos[i], w.point, w.normal, r) < 0.0 || table.has_wall(i, w_id)
-            {
-                continue;
-            }
-            if table.wall_count[i] as usize >= table.wall_slots {
-                return Err(EngineError::SlotOverflow {
-                    kind: "monomer-wall",
-                    step: 0,
-                    monomer: i,
-                    limit: table.wall_slots,
-                });
-            }
-            let c = WallContact {
-                wall: w_id,
-                n1: -w.normal,
-                anchor: pos[i] - w.normal * r,
-                twist: 0.0,
-            };
-            tally.walls -= wall_step_energy(law, monomers, dt, i, w, &c);
-            table.wall[i * table.wall_slots + table.wall_count[i] as usize] = c;
-            table.wall_count[i] += 1;
+    for (w_idx, w) in walls.iter().enumerate() {
+        let w_id = w_idx as u32;
+        let count = *row.wall_count as usize;
+        if wall_law::wall_overlap(pos[i], w.point, w.normal, r) < 0.0
+            || row.wall[..count].iter().any(|c| c.wall == w_id)
+        {
+            continue;
         }
+        if count >= row.wall.len() {
+            return Err(EngineError::SlotOverflow {
+                kind: "monomer-wall",
+                step: 0,
+                monomer: i,
+                limit: row.wall.len(),
+            });
+        }
+        let c = WallContact {
+            wall: w_id,
+            n1: -w.normal,
+            anchor: pos[i] - w.normal * r,
+            twist: 0.0,
+        };
+        tally.walls -= wall_step_energy(law, monomers, dt, i, w, &c);
+        row.wall[count] = c;
+        *row.wall_count += 1;
     }
     Ok(())
 }

@@ -1,10 +1,28 @@
 //! Monomer–monomer force pass: inelastic corrections first (booked per channel as the drop of
 //! the contact's tangential potential), then JKR, damping, rolling, sliding and twisting.
+//!
+//! Data-parallel as the device does it (shaders/passes/forces.wgsl, walls.wgsl): each owner
+//! evaluates its own contacts into per-slot results (`forces_per_slot`), and each monomer then
+//! gathers them in a fixed order (`gather_pair_forces`: contacts it is the partner of, by owner
+//! and slot, then its own slots), the order in which a single thread adding contact by contact
+//! would sum them. So the forces do not depend on the thread count and equal the device's bits.
 
+use super::workspace::{sum_in_order, Workspace, CHUNK};
 use crate::model::{rolling, sliding, twisting, ContactLaw};
 use crate::state::interaction::{pair_interaction, pair_step_energy};
 use crate::state::{ContactTable, Dissipation, Monomers, PairContact};
 use glam::DVec3;
+use rayon::prelude::*;
+
+/// What one pair contact exerts: the force on its owner, the damping part of it, and the
+/// torques on owner and partner.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PairResult {
+    pub force: DVec3,
+    pub damping: DVec3,
+    pub torque_owner: DVec3,
+    pub torque_partner: DVec3,
+}
 
 /// Applies the inelastic limits to one contact in the order rolling, sliding, twisting.
 pub fn apply_inelastic_limits(
@@ -37,31 +55,105 @@ pub fn apply_inelastic_limits(
     }
 }
 
-/// Zeroes the accumulators and adds every monomer–monomer contact, owners in index order.
+/// Every pair contact's corrections and forces, owner by owner in parallel, into
+/// `workspace.pair_result` (one entry per slot). Returns what the corrections dissipated,
+/// summed per chunk of owners and then over chunks in order.
+pub fn forces_per_slot(
+    law: &ContactLaw,
+    dt: f64,
+    monomers: &Monomers,
+    table: &mut ContactTable,
+    workspace: &mut Workspace,
+) -> Dissipation {
+    let slots = table.pair_slots;
+    let n = monomers.len();
+    workspace
+        .pair_result
+        .resize(n * slots, PairResult::default());
+    let counts = &table.pair_count;
+    let chunks: Vec<Dissipation> = table
+        .pair
+        .par_chunks_mut(CHUNK * slots)
+        .zip(workspace.pair_result.par_chunks_mut(CHUNK * slots))
+        .enumerate()
+        .map(|(chunk, (rows, results))| {
+            let mut tally = Dissipation::default();
+            let first = chunk * CHUNK;
+            for (k, (row, out)) in rows
+                .chunks_mut(slots)
+                .zip(results.chunks_mut(slots))
+                .enumerate()
+            {
+                let i = first + k;
+                for (c, result) in row.iter_mut().zip(out.iter_mut()).take(counts[i] as usize) {
+                    apply_inelastic_limits(law, monomers, dt, i, c, &mut tally);
+                    let j = c.partner as usize;
+                    let (x1, x2) = (monomers.position[i], monomers.position[j]);
+                    let (v1, v2) = (monomers.velocity[i], monomers.velocity[j]);
+                    let (force, damping, torque_owner, torque_partner) =
+                        pair_interaction(law, x1, x2, v1, v2, c);
+                    *result = PairResult {
+                        force,
+                        damping,
+                        torque_owner,
+                        torque_partner,
+                    };
+                }
+            }
+            tally
+        })
+        .collect();
+    sum_in_order(&chunks)
+}
+
+/// Each monomer's force, damping force and torque from the per-slot results: the contacts it
+/// is the partner of (in owner and slot order), then its own slots. Overwrites the
+/// accumulators (the walls pass adds to them).
+pub fn gather_pair_forces(monomers: &mut Monomers, table: &ContactTable, workspace: &Workspace) {
+    let slots = table.pair_slots;
+    let incoming = &workspace.incoming;
+    let results = &workspace.pair_result;
+    let counts = &table.pair_count;
+    let m = monomers;
+    (
+        m.force.par_iter_mut(),
+        m.damping_force.par_iter_mut(),
+        m.torque.par_iter_mut(),
+    )
+        .into_par_iter()
+        .with_min_len(CHUNK)
+        .enumerate()
+        .for_each(|(i, (force, damping, torque))| {
+            let (mut f, mut fd, mut t) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
+            for &idx in incoming.of(i) {
+                let r = &results[idx as usize];
+                f -= r.force;
+                fd -= r.damping;
+                t += r.torque_partner;
+            }
+            for r in &results[i * slots..i * slots + counts[i] as usize] {
+                f += r.force;
+                fd += r.damping;
+                t += r.torque_owner;
+            }
+            *force = f;
+            *damping = fd;
+            *torque = t;
+        });
+}
+
+/// The pass: corrections and per-slot forces, the partner index, the gather. Adds what the
+/// corrections dissipated to `tally`.
 pub fn forces(
     law: &ContactLaw,
     dt: f64,
     monomers: &mut Monomers,
     table: &mut ContactTable,
     tally: &mut Dissipation,
+    workspace: &mut Workspace,
 ) {
-    monomers.force.fill(DVec3::ZERO);
-    monomers.torque.fill(DVec3::ZERO);
-    monomers.damping_force.fill(DVec3::ZERO);
-    for i in 0..monomers.len() {
-        for slot in 0..table.pair_count[i] as usize {
-            let c = &mut table.pair[i * table.pair_slots + slot];
-            apply_inelastic_limits(law, monomers, dt, i, c, tally);
-            let j = c.partner as usize;
-            let (x1, x2) = (monomers.position[i], monomers.position[j]);
-            let (v1, v2) = (monomers.velocity[i], monomers.velocity[j]);
-            let (f, fd, m1, m2) = pair_interaction(law, x1, x2, v1, v2, c);
-            monomers.force[i] += f;
-            monomers.force[j] -= f;
-            monomers.damping_force[i] += fd;
-            monomers.damping_force[j] -= fd;
-            monomers.torque[i] += m1;
-            monomers.torque[j] += m2;
-        }
-    }
+    let dissipated = forces_per_slot(law, dt, monomers, table, workspace);
+    workspace.incoming.rebuild(table);
+    gather_pair_forces(monomers, table, workspace);
+    tally.add(&dissipated);
 }

@@ -1,9 +1,14 @@
 //! Leap-frog pass: kick v(n−½) → v(n+½) with the forces at n, turn contact pointers and advance
 //! twist integrals with the mid-step angular velocities, drift positions and walls.
+//!
+//! Every loop is per monomer (or per owner row) with no sums across monomers, so it runs in
+//! parallel with the same bits for any thread count.
 
+use super::workspace::CHUNK;
 use crate::model::pointer::rotate_pointer;
 use crate::model::twisting::twist_increment;
 use crate::state::{ContactTable, Monomers, Wall};
+use rayon::prelude::*;
 
 /// One leap-frog step, as the device does it in three passes (the twins of the WGSL entry
 /// points of the same names).
@@ -30,18 +35,28 @@ pub fn integrate_kick(
     table: &mut ContactTable,
     walls: &[Wall],
 ) {
-    for i in 0..monomers.len() {
-        monomers.velocity[i] +=
-            monomers.force[i] * (dt * inverse_mass * monomers.inverse_mass_scale[i]);
-        monomers.angular_velocity[i] +=
-            monomers.torque[i] * (dt * inverse_inertia * monomers.inverse_inertia_scale[i]);
-        let omega = monomers.angular_velocity[i];
-        for slot in 0..table.wall_count[i] as usize {
-            let c = &mut table.wall[i * table.wall_slots + slot];
-            c.twist += twist_increment(omega, walls[c.wall as usize].normal, dt);
-            c.n1 = rotate_pointer(c.n1, omega * dt);
-        }
-    }
+    let ws = table.wall_slots;
+    let m = monomers;
+    let (force, torque) = (&m.force, &m.torque);
+    let (mass_scale, inertia_scale) = (&m.inverse_mass_scale, &m.inverse_inertia_scale);
+    (
+        m.velocity.par_iter_mut(),
+        m.angular_velocity.par_iter_mut(),
+        table.wall.par_chunks_mut(ws),
+        table.wall_count.par_iter(),
+    )
+        .into_par_iter()
+        .with_min_len(CHUNK)
+        .enumerate()
+        .for_each(|(i, (velocity, spin, wall_row, count))| {
+            *velocity += force[i] * (dt * inverse_mass * mass_scale[i]);
+            *spin += torque[i] * (dt * inverse_inertia * inertia_scale[i]);
+            let omega = *spin;
+            for c in &mut wall_row[..*count as usize] {
+                c.twist += twist_increment(omega, walls[c.wall as usize].normal, dt);
+                c.n1 = rotate_pointer(c.n1, omega * dt);
+            }
+        });
 }
 
 /// Both pointers and the twist integral of every pair contact, with the kicked velocities
@@ -50,24 +65,32 @@ pub fn integrate_pairs(dt: f64, monomers: &Monomers, table: &mut ContactTable) {
     let pos = &monomers.position;
     let vel = &monomers.velocity;
     let omega = &monomers.angular_velocity;
-    for i in 0..monomers.len() {
-        for slot in 0..table.pair_count[i] as usize {
-            let c = &mut table.pair[i * table.pair_slots + slot];
-            let j = c.partner as usize;
-            // Contact normal at mid-step, x(n+½) = x(n) + v(n+½) dt/2.
-            let nc_mid = ((pos[i] - pos[j]) + (vel[i] - vel[j]) * (0.5 * dt)).normalize();
-            c.twist += twist_increment(omega[i] - omega[j], nc_mid, dt);
-            c.n1 = rotate_pointer(c.n1, omega[i] * dt);
-            c.n2 = rotate_pointer(c.n2, omega[j] * dt);
-        }
-    }
+    let ps = table.pair_slots;
+    (table.pair.par_chunks_mut(ps), table.pair_count.par_iter())
+        .into_par_iter()
+        .with_min_len(CHUNK)
+        .enumerate()
+        .for_each(|(i, (row, count))| {
+            for c in &mut row[..*count as usize] {
+                let j = c.partner as usize;
+                // Contact normal at mid-step, x(n+½) = x(n) + v(n+½) dt/2.
+                let nc_mid = ((pos[i] - pos[j]) + (vel[i] - vel[j]) * (0.5 * dt)).normalize();
+                c.twist += twist_increment(omega[i] - omega[j], nc_mid, dt);
+                c.n1 = rotate_pointer(c.n1, omega[i] * dt);
+                c.n2 = rotate_pointer(c.n2, omega[j] * dt);
+            }
+        });
 }
 
 /// Positions and walls.
 pub fn integrate_drift(dt: f64, monomers: &mut Monomers, walls: &mut [Wall]) {
-    for i in 0..monomers.len() {
-        monomers.position[i] += monomers.velocity[i] * dt;
-    }
+    let velocity = &monomers.velocity;
+    monomers
+        .position
+        .par_iter_mut()
+        .with_min_len(CHUNK)
+        .zip(velocity.par_iter())
+        .for_each(|(x, v)| *x += *v * dt);
     for w in walls.iter_mut() {
         w.point += w.velocity * dt;
     }

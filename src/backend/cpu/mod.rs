@@ -5,20 +5,29 @@
 //!
 //! A leaf: it steps a [`State`] under the [`Engine`] contract and uses nothing of another
 //! backend.
+//!
+//! Every pass is data-parallel (rayon, in whatever thread pool the caller runs it: the global
+//! one uses all cores) in the way the device passes are: per-contact work into per-slot
+//! results, per-monomer gathers in a fixed order, and sums over monomers per fixed chunk and
+//! then over chunks in order. So the state after any number of steps is the same to the bit
+//! for any thread count; one thread runs the same code.
 
 pub mod contacts;
 pub mod forces;
 pub mod integrate;
 pub mod neighbours;
 pub mod walls;
+pub mod workspace;
 
 use crate::engine::{Engine, EngineError, SKIN_RADII};
 use crate::model::ContactLaw;
 use crate::state::{simulated_time, Dissipation, EnergyReport, Monomers, State, Wall};
 use glam::DVec3;
 use neighbours::NeighbourList;
+use rayon::prelude::*;
 use std::borrow::Cow;
 use std::ops::{Deref, DerefMut};
+use workspace::{Workspace, CHUNK};
 
 /// The CPU backend: the state it steps, plus its own search structure (the neighbour list) and
 /// timings. It reads as its state (`engine.monomers`, `engine.step`, ...) through `Deref`.
@@ -28,6 +37,10 @@ pub struct CpuEngine {
     pub neighbours: NeighbourList,
     /// Wall-clock seconds spent in each pass, in [`PASS_NAMES`] order.
     pub pass_seconds: [f64; 5],
+    /// Per-slot results and indices the passes reuse; derived from the state each step.
+    pub workspace: Workspace,
+    /// The damping forces of the step before, for the trapezoid-rule work (reused buffers).
+    damping_before: Vec<DVec3>,
 }
 
 impl Deref for CpuEngine {
@@ -67,6 +80,8 @@ impl CpuEngine {
             state: State::initial(law, dt, monomers, walls, pair_slots, wall_slots),
             neighbours: neighbour_list(&law),
             pass_seconds: [0.0; 5],
+            workspace: Workspace::default(),
+            damping_before: Vec::new(),
         };
         engine.neighbours.refresh(&engine.state.monomers.position);
         let s = &mut engine.state;
@@ -84,8 +99,8 @@ impl CpuEngine {
         engine.compute_forces();
         let half = 0.5 * dt;
         let (im, ii) = engine.inverse_mass_inertia();
+        let m = &mut engine.state.monomers;
         for i in 0..n {
-            let m = &mut engine.state.monomers;
             m.velocity[i] -= m.force[i] * (half * im * m.inverse_mass_scale[i]);
             m.angular_velocity[i] -= m.torque[i] * (half * ii * m.inverse_inertia_scale[i]);
         }
@@ -101,6 +116,8 @@ impl CpuEngine {
             state,
             neighbours,
             pass_seconds: [0.0; 5],
+            workspace: Workspace::default(),
+            damping_before: Vec::new(),
         }
     }
 
@@ -111,7 +128,14 @@ impl CpuEngine {
     fn compute_forces(&mut self) {
         let s = &mut self.state;
         let clock = std::time::Instant::now();
-        forces::forces(&s.law, s.dt, &mut s.monomers, &mut s.contacts, &mut s.tally);
+        forces::forces(
+            &s.law,
+            s.dt,
+            &mut s.monomers,
+            &mut s.contacts,
+            &mut s.tally,
+            &mut self.workspace,
+        );
         self.pass_seconds[3] += clock.elapsed().as_secs_f64();
         let clock = std::time::Instant::now();
         walls::wall_forces(
@@ -123,6 +147,7 @@ impl CpuEngine {
             &mut s.tally,
             &mut s.wall_force,
             &mut s.wall_damping,
+            &mut self.workspace,
         );
         self.pass_seconds[4] += clock.elapsed().as_secs_f64();
     }
@@ -163,18 +188,33 @@ impl CpuEngine {
             other => other,
         })?;
         self.pass_seconds[2] += clock.elapsed().as_secs_f64();
-        let damping_before = s.monomers.damping_force.clone();
+        self.damping_before.clone_from(&s.monomers.damping_force);
         let wall_force_before = s.wall_force.clone();
         let wall_damping_before = s.wall_damping.clone();
         self.compute_forces();
         // Work over the step by the trapezoid rule, which matches the leap-frog's kinetic
-        // energy change exactly up to a bounded, telescoping term.
+        // energy change exactly up to a bounded, telescoping term. Summed per chunk, then over
+        // chunks in order.
         let s = &mut self.state;
         let dt = s.dt;
         let m = &s.monomers;
+        let chunk_work: Vec<f64> = (
+            self.damping_before.par_chunks(CHUNK),
+            m.damping_force.par_chunks(CHUNK),
+            m.velocity.par_chunks(CHUNK),
+        )
+            .into_par_iter()
+            .map(|(before, after, velocity)| {
+                let mut work = 0.0;
+                for ((b, a), v) in before.iter().zip(after).zip(velocity) {
+                    work += 0.5 * (*b + *a).dot(*v * dt);
+                }
+                work
+            })
+            .collect();
         let mut damping_work = 0.0;
-        for i in 0..m.len() {
-            damping_work += 0.5 * (damping_before[i] + m.damping_force[i]).dot(m.velocity[i] * dt);
+        for w in chunk_work {
+            damping_work += w;
         }
         for (w, wall) in s.walls.iter().enumerate() {
             let travel = wall.velocity * dt;
@@ -199,40 +239,62 @@ impl CpuEngine {
 
     /// Run-time guard: finite positions and velocities, and no overlap above half a radius.
     pub fn check_state(&self) -> Result<(), EngineError> {
+        self.first_failure(|i| self.check_finite(i))?;
+        self.first_failure(|i| self.check_overlaps(i))
+    }
+
+    /// The error of the lowest-numbered monomer `check` rejects, whatever the thread count.
+    fn first_failure(
+        &self,
+        check: impl Fn(usize) -> Result<(), EngineError> + Sync,
+    ) -> Result<(), EngineError> {
+        let n = self.monomers.len();
+        let found: Vec<Option<EngineError>> = (0..n.div_ceil(CHUNK))
+            .into_par_iter()
+            .map(|chunk| (chunk * CHUNK..((chunk + 1) * CHUNK).min(n)).find_map(|i| check(i).err()))
+            .collect();
+        match found.into_iter().flatten().next() {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
+    }
+
+    fn check_finite(&self, i: usize) -> Result<(), EngineError> {
+        let m = &self.monomers;
+        if !(m.position[i].is_finite() && m.velocity[i].is_finite()) {
+            return Err(EngineError::NonFinite {
+                step: self.step,
+                monomer: i,
+            });
+        }
+        Ok(())
+    }
+
+    fn check_overlaps(&self, i: usize) -> Result<(), EngineError> {
         let m = &self.monomers;
         let r = self.law.radius;
         let limit = 0.5 * r;
-        for i in 0..m.len() {
-            if !(m.position[i].is_finite() && m.velocity[i].is_finite()) {
-                return Err(EngineError::NonFinite {
+        for c in self.contacts.pairs_of(i) {
+            let overlap = 2.0 * r - (m.position[i] - m.position[c.partner as usize]).length();
+            if overlap > limit {
+                return Err(EngineError::RunawayOverlap {
                     step: self.step,
                     monomer: i,
+                    partner: format!("monomer {}", c.partner),
+                    overlap,
                 });
             }
         }
-        for i in 0..m.len() {
-            for c in self.contacts.pairs_of(i) {
-                let overlap = 2.0 * r - (m.position[i] - m.position[c.partner as usize]).length();
-                if overlap > limit {
-                    return Err(EngineError::RunawayOverlap {
-                        step: self.step,
-                        monomer: i,
-                        partner: format!("monomer {}", c.partner),
-                        overlap,
-                    });
-                }
-            }
-            for c in self.contacts.walls_of(i) {
-                let w = &self.walls[c.wall as usize];
-                let overlap = crate::model::wall::wall_overlap(m.position[i], w.point, w.normal, r);
-                if overlap > limit {
-                    return Err(EngineError::RunawayOverlap {
-                        step: self.step,
-                        monomer: i,
-                        partner: format!("the {} wall", w.name),
-                        overlap,
-                    });
-                }
+        for c in self.contacts.walls_of(i) {
+            let w = &self.walls[c.wall as usize];
+            let overlap = crate::model::wall::wall_overlap(m.position[i], w.point, w.normal, r);
+            if overlap > limit {
+                return Err(EngineError::RunawayOverlap {
+                    step: self.step,
+                    monomer: i,
+                    partner: format!("the {} wall", w.name),
+                    overlap,
+                });
             }
         }
         Ok(())

@@ -4,7 +4,9 @@
 //! Cells are keyed by integer coordinates and found by sorting, so the domain is unbounded
 //! (unidirectional runs spread sideways) and the memory is proportional to N.
 
+use super::workspace::CHUNK;
 use glam::DVec3;
+use rayon::prelude::*;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct NeighbourList {
@@ -34,7 +36,8 @@ impl NeighbourList {
         let limit = 0.25 * self.skin * self.skin;
         let stale = self.reference.len() != position.len()
             || position
-                .iter()
+                .par_iter()
+                .with_min_len(CHUNK)
                 .zip(&self.reference)
                 .any(|(p, r)| (*p - *r).length_squared() > limit);
         if stale {
@@ -55,36 +58,47 @@ fn cell_of(p: DVec3, cell: f64) -> [i64; 3] {
 }
 
 /// All pairs (i < j) closer than `cutoff`, sorted, by binning into cubic cells of edge `cutoff`.
+/// Each monomer's partners are found in parallel and sorted; the lists are joined in monomer
+/// order, so the result is the same for any thread count.
 pub fn bin_pairs(position: &[DVec3], cutoff: f64) -> Vec<(u32, u32)> {
     let mut keyed: Vec<([i64; 3], u32)> = position
-        .iter()
+        .par_iter()
         .enumerate()
         .map(|(i, p)| (cell_of(*p, cutoff), i as u32))
         .collect();
-    keyed.sort_unstable();
+    keyed.par_sort_unstable();
     let cutoff2 = cutoff * cutoff;
-    let mut pairs = Vec::new();
-    for (i, p) in position.iter().enumerate() {
-        let c = cell_of(*p, cutoff);
-        for dx in -1..=1 {
-            for dy in -1..=1 {
-                for dz in -1..=1 {
-                    let key = [c[0] + dx, c[1] + dy, c[2] + dz];
-                    let start = keyed.partition_point(|(k, _)| *k < key);
-                    for &(k, j) in &keyed[start..] {
-                        if k != key {
-                            break;
-                        }
-                        if (j as usize) > i
-                            && (position[j as usize] - *p).length_squared() < cutoff2
-                        {
-                            pairs.push((i as u32, j));
+    let lists: Vec<Vec<(u32, u32)>> = position
+        .par_chunks(CHUNK)
+        .enumerate()
+        .map(|(chunk, points)| {
+            let mut pairs = Vec::new();
+            for (k, p) in points.iter().enumerate() {
+                let i = chunk * CHUNK + k;
+                let first = pairs.len();
+                let c = cell_of(*p, cutoff);
+                for dx in -1..=1 {
+                    for dy in -1..=1 {
+                        for dz in -1..=1 {
+                            let key = [c[0] + dx, c[1] + dy, c[2] + dz];
+                            let start = keyed.partition_point(|(k, _)| *k < key);
+                            for &(k, j) in &keyed[start..] {
+                                if k != key {
+                                    break;
+                                }
+                                if (j as usize) > i
+                                    && (position[j as usize] - *p).length_squared() < cutoff2
+                                {
+                                    pairs.push((i as u32, j));
+                                }
+                            }
                         }
                     }
                 }
+                pairs[first..].sort_unstable();
             }
-        }
-    }
-    pairs.sort_unstable();
-    pairs
+            pairs
+        })
+        .collect();
+    lists.concat()
 }

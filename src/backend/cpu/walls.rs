@@ -1,10 +1,18 @@
 //! Monomer–wall force pass (Sect. 2.2): JKR with R = r, damping against the wall velocity,
 //! rolling, sliding about the anchor and twisting; sums the force each wall exerts.
+//!
+//! As on the device: each monomer evaluates its wall contacts into per-slot results, adds them
+//! to its accumulators in slot order, and the per-wall totals are summed in the fixed block
+//! order of [`reduce_walls`] (the twin of the device's reduction), so they do not depend on the
+//! thread count and equal the device's bits.
 
+use super::workspace::{sum_in_order, Workspace, CHUNK};
 use crate::model::{twisting, wall as wall_law, ContactLaw};
 use crate::state::interaction::{wall_interaction, wall_step_energy};
+use crate::state::reduction::reduce_walls;
 use crate::state::{ContactTable, Dissipation, Monomers, Wall, WallContact};
 use glam::DVec3;
+use rayon::prelude::*;
 
 /// Inelastic limits of a wall contact; everything dissipated goes to the `walls` channel.
 pub fn apply_wall_inelastic_limits(
@@ -42,8 +50,59 @@ pub fn apply_wall_inelastic_limits(
     }
 }
 
+/// Every wall contact's corrections and force, monomer by monomer in parallel, into the
+/// workspace's per-slot results. Returns what the corrections dissipated.
+pub fn wall_forces_per_slot(
+    law: &ContactLaw,
+    dt: f64,
+    walls: &[Wall],
+    monomers: &Monomers,
+    table: &mut ContactTable,
+    workspace: &mut Workspace,
+) -> Dissipation {
+    let slots = table.wall_slots;
+    let len = monomers.len() * slots;
+    for v in [
+        &mut workspace.wall_force,
+        &mut workspace.wall_damping,
+        &mut workspace.wall_torque,
+    ] {
+        v.clear();
+        v.resize(len, DVec3::ZERO);
+    }
+    let counts = &table.wall_count;
+    let chunks: Vec<Dissipation> = (
+        table.wall.par_chunks_mut(CHUNK * slots),
+        workspace.wall_force.par_chunks_mut(CHUNK * slots),
+        workspace.wall_damping.par_chunks_mut(CHUNK * slots),
+        workspace.wall_torque.par_chunks_mut(CHUNK * slots),
+    )
+        .into_par_iter()
+        .enumerate()
+        .map(|(chunk, (rows, forces, dampings, torques))| {
+            let mut tally = Dissipation::default();
+            for k in 0..rows.len() / slots {
+                let i = chunk * CHUNK + k;
+                for s in k * slots..k * slots + counts[i] as usize {
+                    let c = &mut rows[s];
+                    let wall = &walls[c.wall as usize];
+                    apply_wall_inelastic_limits(law, monomers, dt, i, wall, c, &mut tally);
+                    let x = monomers.position[i];
+                    let (f, fd, m) = wall_interaction(law, x, monomers.velocity[i], wall, c);
+                    forces[s] = f;
+                    dampings[s] = fd;
+                    torques[s] = m;
+                }
+            }
+            tally
+        })
+        .collect();
+    sum_in_order(&chunks)
+}
+
 /// Adds wall contacts to the accumulators; fills `wall_force` and `wall_damping` with the total
 /// force (and its damping part) each wall exerts on the monomers.
+#[allow(clippy::too_many_arguments)]
 pub fn wall_forces(
     law: &ContactLaw,
     dt: f64,
@@ -53,21 +112,29 @@ pub fn wall_forces(
     tally: &mut Dissipation,
     wall_force: &mut [DVec3],
     wall_damping: &mut [DVec3],
+    workspace: &mut Workspace,
 ) {
-    wall_force.fill(DVec3::ZERO);
-    wall_damping.fill(DVec3::ZERO);
-    for i in 0..monomers.len() {
-        for slot in 0..table.wall_count[i] as usize {
-            let c = &mut table.wall[i * table.wall_slots + slot];
-            let w = c.wall as usize;
-            let x = monomers.position[i];
-            apply_wall_inelastic_limits(law, monomers, dt, i, &walls[w], c, tally);
-            let (f, fd, m) = wall_interaction(law, x, monomers.velocity[i], &walls[w], c);
-            monomers.force[i] += f;
-            monomers.damping_force[i] += fd;
-            monomers.torque[i] += m;
-            wall_force[w] += f;
-            wall_damping[w] += fd;
-        }
-    }
+    let dissipated = wall_forces_per_slot(law, dt, walls, monomers, table, workspace);
+    let slots = table.wall_slots;
+    let counts = &table.wall_count;
+    let ws = &*workspace;
+    let m = monomers;
+    (
+        m.force.par_iter_mut(),
+        m.damping_force.par_iter_mut(),
+        m.torque.par_iter_mut(),
+    )
+        .into_par_iter()
+        .with_min_len(CHUNK)
+        .enumerate()
+        .for_each(|(i, (force, damping, torque))| {
+            for s in i * slots..i * slots + counts[i] as usize {
+                *force += ws.wall_force[s];
+                *damping += ws.wall_damping[s];
+                *torque += ws.wall_torque[s];
+            }
+        });
+    wall_force.copy_from_slice(&reduce_walls(table, &ws.wall_force, walls.len()));
+    wall_damping.copy_from_slice(&reduce_walls(table, &ws.wall_damping, walls.len()));
+    tally.add(&dissipated);
 }

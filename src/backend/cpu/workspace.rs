@@ -1,0 +1,75 @@
+//! Scratch the CPU passes reuse from step to step: per-slot results, the partner index, and the
+//! fixed chunking that makes every sum independent of the thread count.
+
+use super::forces::PairResult;
+use crate::state::{ContactTable, Dissipation};
+use glam::DVec3;
+
+/// Monomers per unit of parallel work. Sums that leave the monomer loop (dissipation, work) are
+/// taken per chunk in monomer order and then over chunks in order: the chunks are fixed by this
+/// number, not by the threads, so the bits are the same for any thread count.
+pub const CHUNK: usize = 512;
+
+/// Sums per-chunk tallies in chunk order.
+pub fn sum_in_order(chunks: &[Dissipation]) -> Dissipation {
+    let mut total = Dissipation::default();
+    for c in chunks {
+        total.add(c);
+    }
+    total
+}
+
+/// For each monomer, the pair-contact slots whose partner it is, in slot order (which is owner
+/// order): a compressed sparse row index rebuilt after the contacts pass.
+#[derive(Clone, Debug, Default)]
+pub struct PartnerIndex {
+    start: Vec<u32>,
+    slots: Vec<u32>,
+}
+
+impl PartnerIndex {
+    /// Rebuilds the index from the table (counting sort by partner; stable in slot order).
+    pub fn rebuild(&mut self, table: &ContactTable) {
+        let n = table.pair_count.len();
+        let ps = table.pair_slots;
+        self.start.clear();
+        self.start.resize(n + 1, 0);
+        for i in 0..n {
+            for c in &table.pair[i * ps..i * ps + table.pair_count[i] as usize] {
+                self.start[c.partner as usize + 1] += 1;
+            }
+        }
+        for j in 0..n {
+            self.start[j + 1] += self.start[j];
+        }
+        self.slots.clear();
+        self.slots.resize(self.start[n] as usize, 0);
+        let mut next: Vec<u32> = self.start[..n].to_vec();
+        for i in 0..n {
+            for (s, c) in table.pair[i * ps..i * ps + table.pair_count[i] as usize]
+                .iter()
+                .enumerate()
+            {
+                let at = &mut next[c.partner as usize];
+                self.slots[*at as usize] = (i * ps + s) as u32;
+                *at += 1;
+            }
+        }
+    }
+
+    /// The slots whose partner is monomer `j`.
+    pub fn of(&self, j: usize) -> &[u32] {
+        &self.slots[self.start[j] as usize..self.start[j + 1] as usize]
+    }
+}
+
+/// Everything the passes keep between steps besides the state.
+#[derive(Clone, Debug, Default)]
+pub struct Workspace {
+    pub pair_result: Vec<PairResult>,
+    pub incoming: PartnerIndex,
+    /// Per wall-contact slot: force on the monomer, its damping part, torque.
+    pub wall_force: Vec<DVec3>,
+    pub wall_damping: Vec<DVec3>,
+    pub wall_torque: Vec<DVec3>,
+}
