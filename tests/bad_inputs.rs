@@ -110,15 +110,15 @@ fn bad_checkpoints_are_refused() {
         (
             "wrong_version",
             spoil(&|b| b[16] = 7),
-            &["version 7", "version 2", "newer"],
+            &["version 7", "version 3", "newer"],
         ),
         (
             "old_version",
-            spoil(&|b| b[16] = 1),
+            spoil(&|b| b[16] = 2),
             &[
-                "version 1",
-                "older dustdem",
                 "version 2",
+                "older dustdem",
+                "version 3",
                 "re-run",
                 "dustdem run",
             ],

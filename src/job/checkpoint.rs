@@ -32,7 +32,7 @@ pub struct LoadedCheckpoint {
 
 /// Reads and checks a checkpoint file completely (header, checksum, config, state).
 ///
-/// Body (format version 2): run id, effective config, output directory relative to the
+/// Body (format version 3, whose state carries the monomers' sample ids): run id, effective config, output directory relative to the
 /// checkpoint's directory (each as u64 length + UTF-8), curve.csv length and hash,
 /// profiles.csv length and hash (u64 each), then the run's state.
 pub fn load_checkpoint(checkpoint: &Path) -> Result<LoadedCheckpoint, RunError> {

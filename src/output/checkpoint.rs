@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 
 pub const MAGIC: &[u8; 12] = b"DUSTDEMCKPT\0";
 /// 1: the first layout; 2: run id, output hashes, output directory relative to the file.
-pub const VERSION: u32 = 2;
+pub const VERSION: u32 = 3;
 const ENDIAN_MARK: u32 = 0x0A0B_0C0D;
 const HEADER: usize = 36;
 
@@ -78,8 +78,8 @@ pub fn read_checkpoint(path: &Path) -> Result<Vec<u8>, CheckpointError> {
     if version < VERSION {
         return Err(fail(format!(
             "format version {version}, written by an older dustdem; this dustdem reads version \
-             {VERSION} only (since version 2 a checkpoint carries its run id and stores paths \
-             relative to itself). It cannot be resumed: re-run the job with `dustdem run`"
+             {VERSION} only (version 2 added the run id and paths relative to the checkpoint, \
+             version 3 the monomers' sample ids). It cannot be resumed: re-run the job with `dustdem run`"
         )));
     }
     if version > VERSION {

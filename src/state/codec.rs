@@ -73,6 +73,7 @@ impl State {
         }
         e.f64s(&m.inverse_mass_scale);
         e.f64s(&m.inverse_inertia_scale);
+        e.u32s(&m.id);
         let c = &self.contacts;
         e.u64(c.pair_slots as u64);
         e.u64(c.wall_slots as u64);
@@ -129,6 +130,7 @@ impl State {
             damping_force: d.vec3s("damping forces")?,
             inverse_mass_scale: d.f64s("inverse mass scales")?,
             inverse_inertia_scale: d.f64s("inverse inertia scales")?,
+            id: d.u32s("monomer ids")?,
         };
         let n = monomers.position.len();
         let lengths = [
@@ -139,12 +141,20 @@ impl State {
             monomers.damping_force.len(),
             monomers.inverse_mass_scale.len(),
             monomers.inverse_inertia_scale.len(),
+            monomers.id.len(),
         ];
         if lengths.iter().any(|&l| l != n) {
             return Err(invalid(
                 d,
                 "monomer arrays",
                 format!("lengths {lengths:?} differ from {n} positions"),
+            ));
+        }
+        if monomers.index_of_ids().is_none() {
+            return Err(invalid(
+                d,
+                "monomer ids",
+                format!("not a permutation of 0..{n}"),
             ));
         }
         let pair_slots = d.u64("pair slots")? as usize;

@@ -12,6 +12,7 @@ pub mod contacts;
 pub mod energy;
 pub mod interaction;
 pub mod monomers;
+pub mod order;
 pub mod reduction;
 pub mod tally;
 pub mod walls;

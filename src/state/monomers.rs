@@ -17,6 +17,9 @@ pub struct Monomers {
     pub inverse_mass_scale: Vec<f64>,
     /// 1 for a free monomer, 0 for one whose rotation is held (or driven).
     pub inverse_inertia_scale: Vec<f64>,
+    /// The monomer's number in the sample it came from: the engines may store monomers in
+    /// another order (space-filling order, [`super::order`]), outputs name them by this id.
+    pub id: Vec<u32>,
 }
 
 impl Monomers {
@@ -31,7 +34,41 @@ impl Monomers {
             damping_force: vec![DVec3::ZERO; n],
             inverse_mass_scale: vec![1.0; n],
             inverse_inertia_scale: vec![1.0; n],
+            id: (0..n as u32).collect(),
         }
+    }
+
+    /// The monomers in another order: entry k of the result is entry `order[k]` of `self`.
+    pub fn permuted(&self, order: &[u32]) -> Monomers {
+        fn take<T: Copy>(v: &[T], order: &[u32]) -> Vec<T> {
+            order.iter().map(|&i| v[i as usize]).collect()
+        }
+        Monomers {
+            position: take(&self.position, order),
+            velocity: take(&self.velocity, order),
+            angular_velocity: take(&self.angular_velocity, order),
+            force: take(&self.force, order),
+            torque: take(&self.torque, order),
+            damping_force: take(&self.damping_force, order),
+            inverse_mass_scale: take(&self.inverse_mass_scale, order),
+            inverse_inertia_scale: take(&self.inverse_inertia_scale, order),
+            id: take(&self.id, order),
+        }
+    }
+
+    /// Where each sample id is stored: `slot[id]` is the index holding monomer `id`, if the
+    /// ids are a permutation of 0..n (as every engine keeps them).
+    pub fn index_of_ids(&self) -> Option<Vec<usize>> {
+        let n = self.len();
+        let mut slot = vec![usize::MAX; n];
+        for (i, &id) in self.id.iter().enumerate() {
+            let s = slot.get_mut(id as usize)?;
+            if *s != usize::MAX {
+                return None;
+            }
+            *s = i;
+        }
+        Some(slot)
     }
 
     pub fn len(&self) -> usize {

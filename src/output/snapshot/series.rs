@@ -92,18 +92,23 @@ struct Owned {
 }
 
 impl Owned {
+    /// The state's monomers in sample-id order (the engines may store them in another
+    /// order), so monomer `id` is line `id + 1` in every snapshot of a run.
     fn of(state: &State) -> Owned {
         let m = &state.monomers;
-        let n = m.len();
+        let order: Vec<usize> = m.index_of_ids().unwrap_or_else(|| (0..m.len()).collect());
+        let coordination = state.contacts.coordination();
         Owned {
-            positions: m.position.iter().map(|p| arr(*p)).collect(),
-            velocities: (0..n)
-                .map(|i| arr(state.synchronized_velocity(i)))
+            positions: order.iter().map(|&i| arr(m.position[i])).collect(),
+            velocities: order
+                .iter()
+                .map(|&i| arr(state.synchronized_velocity(i)))
                 .collect(),
-            spins: (0..n)
-                .map(|i| arr(state.synchronized_angular_velocity(i)))
+            spins: order
+                .iter()
+                .map(|&i| arr(state.synchronized_angular_velocity(i)))
                 .collect(),
-            contacts: state.contacts.coordination(),
+            contacts: order.iter().map(|&i| coordination[i]).collect(),
             walls: state
                 .walls
                 .iter()

@@ -74,6 +74,8 @@ pub struct GpuEngine {
     /// per-monomer tallies count only since the last read, so a run resumed at a read adds the
     /// same batch sums in the same order as an uninterrupted one (bit-identical totals).
     totals: [f64; layout::TALLY_STRIDE],
+    /// The monomers' sample ids, kept on the host: the device never reorders monomers.
+    pub(super) ids: Vec<u32>,
 }
 
 fn groups(n: usize) -> u32 {
@@ -178,6 +180,7 @@ impl GpuEngine {
             readback_every: DEFAULT_READBACK_EVERY,
             diagnostics: Diagnostics::default(),
             totals: [0.0; layout::TALLY_STRIDE],
+            ids: monomers.id.clone(),
         };
         engine.upload(monomers, table);
         Ok(engine)

@@ -215,6 +215,7 @@ impl GpuEngine {
             damping_force: self.read_vec3("damping_force", n),
             inverse_mass_scale: aux.iter().map(|a| a[0]).collect(),
             inverse_inertia_scale: aux.iter().map(|a| a[1]).collect(),
+            id: self.ids.clone(),
         }
     }
 
