@@ -1,19 +1,44 @@
 //! LAMMPS `pair_style granular` / `fix wall/gran granular` coefficients computed from dustdem's
 //! contact constants (CGS, as `units cgs` reads them).
 //!
-//! The nearest model LAMMPS (29 Sep 2021) has: `jkr` normal force, `damping velocity` (or
-//! `viscoelastic`), `tangential mindlin`, `rolling sds`, `twisting marshall`. Where the two
+//! The nearest model LAMMPS (29 Sep 2021) has: `jkr` normal force (`dmt` at the walls, see
+//! [`Normal`]), `damping velocity` (or `viscoelastic`), `tangential mindlin`, `rolling sds`,
+//! `twisting marshall`. Where the two
 //! models differ in form, the coefficients are chosen so that both agree at the equilibrium
 //! contact (a = a₀, elastic force zero); README "Benchmark" lists what stays different.
 
 use crate::material::{ContactConstants, Material};
 use crate::model::{ContactLaw, Damping, WallFactors};
 
-/// One `granular` model argument list: `jkr E η ν γ damping D tangential mindlin k_t x_γ μ_s
-/// rolling sds k_roll γ_roll μ_roll twisting marshall`.
+/// LAMMPS's normal model: `jkr` between monomers; `dmt` at the walls.
+///
+/// JKR is what dustdem uses everywhere, but `fix wall/gran` of LAMMPS 29 Sep 2021 computes a
+/// NaN force as soon as a JKR wall contact is stretched below zero overlap (a monomer leaving
+/// a wall it touched: found by running the deck; planes and regions alike). DMT is the
+/// adhesive model it computes there: Hertz repulsion minus a constant pull-off force 4πγR,
+/// ending at zero overlap.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Normal {
+    Jkr,
+    Dmt,
+}
+
+impl Normal {
+    /// Its pull-off force over dustdem's F_c = 3πγR.
+    fn pulloff_over_f_c(self) -> f64 {
+        match self {
+            Normal::Jkr => 1.0,
+            Normal::Dmt => 4.0 / 3.0,
+        }
+    }
+}
+
+/// One `granular` model argument list: `jkr|dmt E η ν γ damping D tangential mindlin k_t x_γ
+/// μ_s rolling sds k_roll γ_roll μ_roll twisting marshall`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GranularCoeffs {
-    /// `jkr` E: Young's modulus [dyn/cm²] as LAMMPS reads it (see [`GranularCoeffs::wall`]).
+    pub normal: Normal,
+    /// `jkr`/`dmt` E: Young's modulus [dyn/cm²] as LAMMPS reads it ([`GranularCoeffs::wall`]).
     pub youngs_modulus: f64,
     /// `jkr` η_n0: the damping prefactor ([`GranularCoeffs::damping_model`] says its unit).
     pub damping: f64,
@@ -27,7 +52,8 @@ pub struct GranularCoeffs {
     pub tangential_stiffness: f64,
     /// `tangential mindlin` x_γ,t: tangential damping as a multiple of the normal damping.
     pub tangential_damping: f64,
-    /// `tangential mindlin` μ_s: the sliding force is capped at μ_s |F_ne + 2 F_pulloff|.
+    /// `tangential mindlin` μ_s: the sliding force is capped at μ_s |F_ne + 2 F_pulloff|
+    /// (F_pulloff: 3πγR for jkr, 4πγR for dmt).
     pub sliding_friction: f64,
     /// `rolling sds` k_roll [dyn/cm].
     pub rolling_stiffness: f64,
@@ -43,6 +69,7 @@ impl GranularCoeffs {
         // LAMMPS mixes E_eff = E/(2(1 − ν²)) for the pair style: the material's own E gives
         // dustdem's E* (tested against a pair at a known overlap).
         Self::from_constants(
+            Normal::Jkr,
             material.youngs_modulus,
             material,
             law,
@@ -58,21 +85,29 @@ impl GranularCoeffs {
         // E written for the walls, E/(1 + ν), makes its E_eff dustdem's E* = E/(2(1 − ν²)).
         // The wall is the particle's partner of infinite radius and mass: R = r, m_eff = m.
         let e = material.youngs_modulus / (1.0 + material.poisson);
-        Self::from_constants(e, material, law, &law.wall_constants(factors), law.mass)
+        Self::from_constants(
+            Normal::Dmt,
+            e,
+            material,
+            law,
+            &law.wall_constants(factors),
+            law.mass,
+        )
     }
 
     fn from_constants(
+        normal: Normal,
         youngs_modulus: f64,
         material: &Material,
         law: &ContactLaw,
         c: &ContactConstants,
         reduced_mass: f64,
     ) -> Self {
-        // LAMMPS caps tangential, rolling and twisting resistance at μ |F_ne + 2 F_pulloff|
-        // (F_pulloff = 3πγR = F_c for jkr); dustdem caps the displacement itself. At the
-        // equilibrium contact (F_ne = 0) the LAMMPS cap is μ · 2 F_c, so μ = (dustdem's largest
-        // force) / (2 F_c) makes the two caps equal there.
-        let cap = 2.0 * c.f_c;
+        // LAMMPS caps tangential, rolling and twisting resistance at μ |F_ne + 2 F_pulloff|;
+        // dustdem caps the displacement itself. At the equilibrium contact (F_ne = 0) the
+        // LAMMPS cap is μ · 2 F_pulloff, so μ = (dustdem's largest force) / (2 F_pulloff)
+        // makes the two caps equal there.
+        let cap = 2.0 * normal.pulloff_over_f_c() * c.f_c;
         let (damping_model, damping) = match law.damping {
             // dustdem: F = −κ v_n; LAMMPS `velocity`: η_n = η_n0.
             Damping::Viscous { kappa } => ("velocity", kappa),
@@ -84,6 +119,7 @@ impl GranularCoeffs {
             Damping::None => ("velocity", 0.0),
         };
         GranularCoeffs {
+            normal,
             youngs_modulus,
             damping,
             damping_model,
@@ -108,8 +144,12 @@ impl GranularCoeffs {
     /// The model arguments as `pair_coeff` and `fix wall/gran granular` take them.
     pub fn args(&self) -> String {
         format!(
-            "jkr {} {} {} {} damping {} tangential mindlin {} {} {} rolling sds {} {} {} \
+            "{} {} {} {} {} damping {} tangential mindlin {} {} {} rolling sds {} {} {} \
              twisting marshall",
+            match self.normal {
+                Normal::Jkr => "jkr",
+                Normal::Dmt => "dmt",
+            },
             num(self.youngs_modulus),
             num(self.damping),
             num(self.poisson),

@@ -180,6 +180,11 @@ fn differences(material: &Material, law: &ContactLaw, config: &Config) -> Vec<St
         "damping: the same normal damping; no tangential, rolling or twisting damping in \
          either (x_gamma,t = 0, gamma_roll = 0)"
             .into(),
+        "walls: DMT instead of JKR (Hertz repulsion minus a constant pull-off 4 pi gamma r, \
+         contact ends at zero overlap, equilibrium overlap 3^(1/3) times JKR's), because fix \
+         wall/gran of this LAMMPS version returns NaN forces once a JKR wall contact is \
+         stretched below zero overlap; the friction limits use 2 F_pulloff = 8 pi gamma r"
+            .into(),
         format!(
             "walls: R = r as in dustdem; fix wall/gran of this LAMMPS version mixes E_eff = \
              E/(2(1-nu)), so the walls are given E/(1+nu) to get dustdem's E*; wall twisting \
