@@ -310,10 +310,11 @@ fn measure_size(
                     let pool = setup.pools[i].as_ref().expect("a pool per cpu side");
                     let mut e = start.clone();
                     e.pass_seconds = [0.0; 5];
-                    measure::time_cpu(pool, &mut e, steps).map(|s| {
+                    let timed = measure::time_cpu(pool, &mut e, steps);
+                    if timed.is_ok() {
                         add_passes(&mut r.passes, &e.pass_seconds, steps);
-                        s
-                    })
+                    }
+                    timed
                 }
                 SideKind::Gpu => measure::gpu_engine(&start.state).and_then(|mut e| {
                     let s = measure::time_gpu(&mut e, steps)?;
