@@ -2,11 +2,11 @@
 //! omnidirectional compression at 1 m/s, for N = 10³, 10⁴, 10⁵ (override with
 //! `DUSTDEM_BENCH_SIZES=1000,10000`), with the time per pass. Prints a Markdown table.
 //!
-//! Run: `cargo bench --bench cpu_throughput`
+//! Run: `cargo bench --bench cpu_throughput`. `dustdem bench` measures the same compression
+//! with rounds, thread counts, the GPU engine and LAMMPS beside it.
 
-use dustdem::backend::cpu::{CpuEngine, PASS_NAMES};
-use dustdem::config::Config;
-use dustdem::experiment::compression::Compression;
+use dustdem::backend::cpu::PASS_NAMES;
+use dustdem::bench::{benchmark_config, benchmark_engine};
 use std::time::Instant;
 
 fn main() {
@@ -24,22 +24,19 @@ fn main() {
     );
     println!("|---|---|---|---|---|{}", "---|".repeat(PASS_NAMES.len()));
     for n in sizes {
-        let text = format!(
-            "[sample]\nmonomers = {n}\nseed = 1\n[experiment]\nkind = \"omni\"\nwall_speed_m_s = 1.0\n"
-        );
-        let config = Config::parse(&text, "benchmark").expect("valid benchmark config");
-        let mut run = Compression::with_engine(&config, CpuEngine::new).expect("setup");
+        // The compression `dustdem bench` measures (src/bench).
+        let config = benchmark_config(n).expect("valid benchmark config");
+        let (mut engine, _, _) = benchmark_engine(&config).expect("setup");
         // Warm up past the first contact changes, then measure.
         let steps = (2e8 / n as f64).clamp(200.0, 20_000.0) as u64;
-        run.engine.run(steps / 10).expect("warm-up");
-        run.engine.pass_seconds = [0.0; 5];
+        engine.run(steps / 10).expect("warm-up");
+        engine.pass_seconds = [0.0; 5];
         let clock = Instant::now();
-        run.engine.run(steps).expect("run");
+        engine.run(steps).expect("run");
         let seconds = clock.elapsed().as_secs_f64();
-        let coordination = 2.0 * run.engine.contacts.pair_contact_count() as f64 / n as f64;
-        let total: f64 = run.engine.pass_seconds.iter().sum();
-        let shares: Vec<String> = run
-            .engine
+        let coordination = 2.0 * engine.contacts.pair_contact_count() as f64 / n as f64;
+        let total: f64 = engine.pass_seconds.iter().sum();
+        let shares: Vec<String> = engine
             .pass_seconds
             .iter()
             .map(|s| format!("{:.0}", 100.0 * s / total))

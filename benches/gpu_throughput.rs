@@ -23,11 +23,9 @@ use dustdem::config::Config;
 use dustdem::experiment::compression::Compression;
 use std::time::Instant;
 
+/// The compression `dustdem bench` measures (src/bench).
 fn config(n: usize) -> Config {
-    let text = format!(
-        "[sample]\nmonomers = {n}\nseed = 1\n[experiment]\nkind = \"omni\"\nwall_speed_m_s = 1.0\n"
-    );
-    Config::parse(&text, "benchmark").expect("valid benchmark config")
+    dustdem::bench::benchmark_config(n).expect("valid benchmark config")
 }
 
 /// `DUSTDEM_FLOAT_MODE=relaxed` (or `exact`) measures that mode instead of the device's best.

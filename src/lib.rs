@@ -6,6 +6,7 @@
 
 pub mod analysis;
 pub mod backend;
+pub mod bench;
 pub mod binary;
 pub mod calibrate;
 pub mod cli;

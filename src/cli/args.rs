@@ -99,6 +99,32 @@ pub(super) enum Command {
         #[arg(long)]
         threads: Option<usize>,
     },
+    /// Measure particle-steps per second of the engines (and of LAMMPS with --lammps) on RBD
+    /// samples under 1 m/s omnidirectional compression; writes bench.md and bench.csv.
+    Bench {
+        /// Sample sizes N, comma-separated (10 to 10000000).
+        #[arg(long, default_value = "1000,10000,100000,1000000")]
+        sizes: String,
+        /// Target wall-clock seconds of one measurement (0.05 to 3600); the steps follow from
+        /// a short timed probe of each engine.
+        #[arg(long, default_value_t = 20.0)]
+        seconds: f64,
+        /// Rounds; each runs every engine once in turn from the same starting state (1 to 100).
+        #[arg(long, default_value_t = 3)]
+        rounds: usize,
+        /// CPU engine thread counts, comma-separated: numbers or `all`.
+        #[arg(long, default_value = "1,all")]
+        threads: String,
+        /// Engines: cpu, gpu or both; gpu is skipped with a note where no adapter has f64.
+        #[arg(long, default_value = "cpu,gpu")]
+        backends: String,
+        /// Also export the sample and an input deck for LAMMPS and, where `lmp` is on PATH,
+        /// run it on 1 and 2 MPI ranks.
+        #[arg(long)]
+        lammps: bool,
+        #[arg(long, default_value = "bench")]
+        out: PathBuf,
+    },
     /// Write measured-like data from the simulator, with effects switched on and noise added.
     Synth {
         /// Base config (sample size, wall speed, time step, model).

@@ -3,6 +3,7 @@
 use super::args::ReportArgs;
 use super::progress::{interrupt_flag, print_summary, Reporter};
 use crate::analysis::fit::{fit_eq13, FitOptions};
+use crate::bench::{run_bench, write_tables, Options as BenchOptions};
 use crate::calibrate::synth::{write_synth, SynthSpec};
 use crate::calibrate::{parse_effect, run_calibration, Settings};
 use crate::config::{stable_time_step, Config};
@@ -259,5 +260,23 @@ pub(super) fn synth(
         set.compression.len(),
         set.sticking.len()
     );
+    Ok(())
+}
+
+pub(super) fn bench(
+    sizes: &str,
+    seconds: f64,
+    rounds: usize,
+    threads: &str,
+    backends: &str,
+    lammps: bool,
+    out: PathBuf,
+) -> Result<(), String> {
+    let options = BenchOptions::parse(sizes, seconds, rounds, threads, backends, lammps, out)?;
+    let progress = |line: &str| eprintln!("{line}");
+    let report = run_bench(&options, &progress)?;
+    for path in write_tables(&report)? {
+        println!("wrote {}", path.display());
+    }
     Ok(())
 }

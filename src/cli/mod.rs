@@ -9,7 +9,7 @@ use crate::calibrate::synth::SynthSpec;
 use crate::job::{Backend, PrivateRuntimeDir};
 use args::{Cli, Command};
 use clap::Parser;
-use commands::{calibrate, fit, generate, info, resume, run, synth};
+use commands::{bench, calibrate, fit, generate, info, resume, run, synth};
 use std::process::ExitCode;
 
 /// Parses the command line and runs the command; errors are printed, exit status 2.
@@ -19,6 +19,7 @@ pub fn main() -> ExitCode {
     let probes = match &cli.command {
         Command::Run { backend, .. } | Command::Resume { backend, .. } => *backend != Backend::Cpu,
         Command::Info { .. } => true,
+        Command::Bench { backends, .. } => backends.contains("gpu"),
         _ => false,
     };
     let _runtime_dir = (probes && !cli.verbose)
@@ -53,6 +54,15 @@ pub fn main() -> ExitCode {
             rounds,
             threads,
         } => calibrate(&measured, &config, &out, seeds, rounds, threads),
+        Command::Bench {
+            sizes,
+            seconds,
+            rounds,
+            threads,
+            backends,
+            lammps,
+            out,
+        } => bench(&sizes, seconds, rounds, &threads, &backends, lammps, out),
         Command::Synth {
             config,
             effect,

@@ -1,0 +1,166 @@
+//! The engines a round measures ("sides"), how many steps each gets, and one timed run of each.
+//!
+//! Step counts come from the side's own speed: a probe of doubling runs until one takes a
+//! tenth of the target, then steps = target seconds / seconds per step. So every measurement
+//! takes about the same time whatever N and engine, and no side runs for hours.
+
+use super::options::{Options, Threads, LAMMPS_RANKS};
+use crate::backend::cpu::{CpuEngine, PASS_NAMES};
+use crate::backend::gpu::context::{GpuContext, Requirements};
+use crate::backend::gpu::engine::GpuEngine;
+use crate::backend::gpu::kernels::ENTRY_POINTS;
+use crate::state::State;
+use std::time::Instant;
+
+/// Fewest and most steps of a measurement.
+pub const STEPS_RANGE: (u64, u64) = (10, 100_000_000);
+/// LAMMPS's timing sections, in the order its log prints them.
+pub const LAMMPS_SECTIONS: [&str; 6] = ["Pair", "Neigh", "Comm", "Output", "Modify", "Other"];
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SideKind {
+    Cpu(Threads),
+    Gpu,
+    Lammps { ranks: usize },
+}
+
+/// One engine configuration a round measures.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Side {
+    pub kind: SideKind,
+    /// Column prefix in bench.csv (`cpu_t1`, `cpu_all`, `gpu`, `lammps_r2`).
+    pub key: String,
+    /// Column heading in bench.md.
+    pub label: String,
+}
+
+impl Side {
+    /// The pass (or section) names this side reports times for.
+    pub fn pass_names(&self) -> Vec<String> {
+        match self.kind {
+            SideKind::Cpu(_) => PASS_NAMES.iter().map(|s| s.to_string()).collect(),
+            SideKind::Gpu => GpuEngine::passes()
+                .iter()
+                .map(|k| ENTRY_POINTS[*k as usize].1.to_string())
+                .collect(),
+            SideKind::Lammps { .. } => LAMMPS_SECTIONS.iter().map(|s| s.to_string()).collect(),
+        }
+    }
+}
+
+/// The sides of a round, in the order a round runs them: CPU thread counts, GPU, LAMMPS ranks.
+pub fn sides(options: &Options) -> Vec<Side> {
+    let mut sides = Vec::new();
+    for &t in &options.threads {
+        let (key, label) = match t {
+            Threads::Count(1) => ("cpu_t1".to_string(), "cpu, 1 thread".to_string()),
+            Threads::Count(t) => (format!("cpu_t{t}"), format!("cpu, {t} threads")),
+            Threads::All => (
+                "cpu_all".to_string(),
+                format!("cpu, all {} threads", t.resolve()),
+            ),
+        };
+        sides.push(Side {
+            kind: SideKind::Cpu(t),
+            key,
+            label,
+        });
+    }
+    if options.gpu {
+        sides.push(Side {
+            kind: SideKind::Gpu,
+            key: "gpu".into(),
+            label: "gpu".into(),
+        });
+    }
+    if options.lammps {
+        for ranks in LAMMPS_RANKS {
+            sides.push(Side {
+                kind: SideKind::Lammps { ranks },
+                key: format!("lammps_r{ranks}"),
+                label: format!("LAMMPS, {ranks} rank{}", if ranks == 1 { "" } else { "s" }),
+            });
+        }
+    }
+    sides
+}
+
+/// Steps for a measurement of `seconds` at `per_step` seconds per step.
+pub fn steps_for(seconds: f64, per_step: f64) -> u64 {
+    let steps = (seconds / per_step.max(1e-12)).round();
+    (steps as u64).clamp(STEPS_RANGE.0, STEPS_RANGE.1)
+}
+
+/// Runs `run(k)` (k steps, returns the seconds they took) for k = 1, 2, 4, … until one call
+/// takes `at_least` seconds; returns (all steps run, seconds per step of the last call).
+pub fn probe(
+    mut run: impl FnMut(u64) -> Result<f64, String>,
+    at_least: f64,
+) -> Result<(u64, f64), String> {
+    let (mut k, mut total) = (1u64, 0u64);
+    loop {
+        let seconds = run(k)?;
+        total += k;
+        if seconds >= at_least || k >= STEPS_RANGE.1 {
+            return Ok((total, seconds / k as f64));
+        }
+        // Aim straight at the target once a call is long enough to time.
+        k = if seconds > 0.01 {
+            ((at_least / seconds * k as f64).ceil() as u64).max(k + 1)
+        } else {
+            2 * k
+        };
+    }
+}
+
+/// Runs `steps` steps of `engine` on `threads` threads; returns the seconds they took.
+///
+/// The thread count is set only by the pool the engine runs in: the engine's parallel passes
+/// use whatever pool they are called from.
+pub fn time_cpu(
+    pool: &rayon::ThreadPool,
+    engine: &mut CpuEngine,
+    steps: u64,
+) -> Result<f64, String> {
+    let clock = Instant::now();
+    pool.install(|| engine.run(steps))
+        .map_err(|e| e.to_string())?;
+    Ok(clock.elapsed().as_secs_f64())
+}
+
+/// A GPU engine continuing from `state` on a fresh device context.
+pub fn gpu_engine(state: &State) -> Result<GpuEngine, String> {
+    let ctx = GpuContext::new(&Requirements::default()).map_err(|e| e.to_string())?;
+    GpuEngine::resume(ctx, state).map_err(|e| e.to_string())
+}
+
+/// Runs `steps` steps of `engine`; returns the seconds they took (each submission ends with a
+/// read of the small block, so the device has finished).
+pub fn time_gpu(engine: &mut GpuEngine, steps: u64) -> Result<f64, String> {
+    let clock = Instant::now();
+    engine.run(steps).map_err(|e| e.to_string())?;
+    Ok(clock.elapsed().as_secs_f64())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn probes_stop_once_a_call_is_long_enough() {
+        let mut calls = Vec::new();
+        let (total, per_step) = probe(
+            |k| {
+                calls.push(k);
+                Ok(k as f64 * 1e-3)
+            },
+            0.1,
+        )
+        .unwrap();
+        assert_eq!(*calls.last().unwrap(), 100);
+        assert_eq!(total, calls.iter().sum::<u64>());
+        assert!((per_step - 1e-3).abs() < 1e-15);
+        assert_eq!(steps_for(20.0, 1e-3), 20_000);
+        assert_eq!(steps_for(20.0, 100.0), STEPS_RANGE.0);
+    }
+}

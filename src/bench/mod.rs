@@ -1,0 +1,418 @@
+//! `dustdem bench`: particle-steps per second of the engines on RBD samples under 1 m/s
+//! omnidirectional compression, as a table (bench.md, bench.csv), optionally beside LAMMPS
+//! running the same sample and the nearest granular model it has.
+//!
+//! The machine this runs on may be shared and noisy, so the measurements are arranged for
+//! ratios: per N, every engine ("side") starts from the same warmed-up state, and each round
+//! runs every side once in turn, so the sides of one round meet the same load. Rates are
+//! medians over rounds; ratios are medians of the per-round ratios with their range.
+//!
+//! Here: the plan per N (sample, warm-up, steps, rounds). `options` checks the arguments,
+//! `measure` times one side, `table` writes the files, `lammps` exports and runs the deck.
+
+pub mod lammps;
+pub mod measure;
+pub mod memory;
+pub mod options;
+pub mod stats;
+pub mod table;
+
+pub use options::{Options, Threads};
+
+use crate::backend::cpu::CpuEngine;
+use crate::backend::gpu::context::{GpuContext, Requirements};
+use crate::backend::gpu::engine::GpuEngine;
+use crate::config::Config;
+use crate::experiment::setup::{build_sample, build_walls, monomers_of};
+use crate::output::atomic::write_atomic;
+use lammps::Lammps;
+use measure::{probe, sides, steps_for, Side, SideKind};
+use std::path::PathBuf;
+
+/// The benchmark's compression of `n` monomers: the project's defaults (Seizinger et al.'s
+/// unmodified model, dt 0.3 ns) with an RBD sample of seed 1 and the top wall at 1 m/s.
+pub fn benchmark_config(n: usize) -> Result<Config, String> {
+    let text = format!(
+        "[sample]\nmonomers = {n}\nseed = 1\n[experiment]\nkind = \"omni\"\nwall_speed_m_s = 1.0\n"
+    );
+    Config::parse(&text, "benchmark").map_err(|e| e.to_string())
+}
+
+/// The engine of [`benchmark_config`]`(n)` at time 0, with the sample and walls it was made
+/// from (the LAMMPS export needs them).
+pub fn benchmark_engine(
+    config: &Config,
+) -> Result<(CpuEngine, crate::sample::Sample, Vec<crate::state::Wall>), String> {
+    let law = config.contact_law();
+    let sample = build_sample(config, &law).map_err(|e| e.to_string())?;
+    let walls = build_walls(config, &law, &sample).map_err(|e| e.to_string())?;
+    let engine = CpuEngine::new(
+        law,
+        config.dt(),
+        monomers_of(&sample),
+        walls.clone(),
+        config.integration.pair_slots,
+        config.integration.wall_slots,
+    )
+    .map_err(|e| e.to_string())?;
+    Ok((engine, sample, walls))
+}
+
+/// Everything measured, for the tables.
+#[derive(Clone, Debug)]
+pub struct Report {
+    pub options: Options,
+    pub sides: Vec<Side>,
+    pub sizes: Vec<SizeResult>,
+    /// CPU model and logical CPUs.
+    pub host: String,
+    /// The GPU adapter the gpu side ran on (name, type, float mode).
+    pub gpu_adapter: Option<String>,
+    /// LAMMPS's version line, from its first log.
+    pub lammps_version: Option<String>,
+    /// Sides skipped and why, and other remarks, one line each.
+    pub notes: Vec<String>,
+}
+
+/// One N.
+#[derive(Clone, Debug)]
+pub struct SizeResult {
+    pub n: usize,
+    /// Steps run before the measured state (dustdem's warm-up; LAMMPS runs as many first).
+    pub warmup_steps: u64,
+    /// 2 × pair contacts / N of the measured starting state.
+    pub contacts_per_monomer: f64,
+    /// One per [`Report::sides`], in the same order.
+    pub sides: Vec<SideResult>,
+    /// Peak resident memory of this process while this N ran [B].
+    pub peak_rss_bytes: Option<u64>,
+    /// Whether the peak was reset before this N (otherwise it covers the earlier N too).
+    pub peak_rss_per_size: bool,
+    /// LAMMPS's overlapping pairs per monomer at the end of its one-rank runs.
+    pub lammps_contacts_per_monomer: Option<f64>,
+}
+
+/// One side at one N.
+#[derive(Clone, Debug, Default)]
+pub struct SideResult {
+    pub steps: u64,
+    /// Particle-steps per second, one per round.
+    pub rates: Vec<f64>,
+    /// Seconds per step of each of [`Side::pass_names`] (mean over the rounds); empty where
+    /// the side does not report them.
+    pub passes: Vec<f64>,
+    /// Memory the side reports [MiB]: GPU buffers, or LAMMPS's largest per-rank allocation.
+    pub memory_mib: Option<f64>,
+    /// Why the side was not measured (or stopped being measured).
+    pub skipped: Option<String>,
+}
+
+/// What the sides need across sizes: thread pools, the GPU's availability, LAMMPS.
+struct Setup {
+    pools: Vec<Option<rayon::ThreadPool>>,
+    /// All threads, for the warm-up.
+    warm_pool: rayon::ThreadPool,
+    gpu: Result<(), String>,
+    lammps: Result<Lammps, String>,
+}
+
+fn pool(threads: usize) -> Result<rayon::ThreadPool, String> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| format!("a pool of {threads} threads: {e}"))
+}
+
+/// Runs the benchmark and writes bench.md and bench.csv into `options.out` (again after every
+/// N, so an interrupted run keeps what it measured). `progress` gets one line per step of
+/// the plan.
+pub fn run_bench(options: &Options, progress: &dyn Fn(&str)) -> Result<Report, String> {
+    std::fs::create_dir_all(&options.out)
+        .map_err(|e| format!("--out {}: {e}", options.out.display()))?;
+    let sides = sides(options);
+    let mut report = Report {
+        options: options.clone(),
+        sides: sides.clone(),
+        sizes: Vec::new(),
+        host: host(),
+        gpu_adapter: None,
+        lammps_version: None,
+        notes: Vec::new(),
+    };
+    let gpu = if options.gpu {
+        match GpuContext::new(&Requirements::default()) {
+            Ok(ctx) => {
+                let s = ctx.summary();
+                report.gpu_adapter = Some(format!(
+                    "{} ({:?}; {:?} float mode)",
+                    s.name, s.device_type, ctx.float_mode
+                ));
+                Ok(())
+            }
+            Err(e) => Err(format!("gpu not measured: no adapter with f64: {e}")),
+        }
+    } else {
+        Err(String::new())
+    };
+    if let Err(note) = &gpu {
+        if options.gpu {
+            progress(note);
+            report.notes.push(note.clone());
+        }
+    }
+    let lammps = if options.lammps {
+        Lammps::find()
+    } else {
+        Err(String::new())
+    };
+    if let (true, Err(note)) = (options.lammps, &lammps) {
+        progress(note);
+        report.notes.push(format!(
+            "{note}; the deck and data file are written all the same"
+        ));
+    }
+    let pools = sides
+        .iter()
+        .map(|s| match s.kind {
+            SideKind::Cpu(t) => pool(t.resolve()).map(Some),
+            _ => Ok(None),
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let setup = Setup {
+        pools,
+        warm_pool: pool(Threads::All.resolve())?,
+        gpu,
+        lammps,
+    };
+    for &n in &options.sizes {
+        let result = measure_size(n, options, &sides, &setup, &mut report, progress)?;
+        report.sizes.push(result);
+        write_tables(&report)?;
+    }
+    if options.sizes.is_empty() {
+        write_tables(&report)?;
+    }
+    Ok(report)
+}
+
+/// bench.md and bench.csv in the output directory.
+pub fn write_tables(report: &Report) -> Result<Vec<PathBuf>, String> {
+    let out = &report.options.out;
+    let mut written = Vec::new();
+    for (name, text) in [
+        ("bench.md", table::markdown(report)),
+        ("bench.csv", table::csv(report)),
+    ] {
+        let path = out.join(name);
+        write_atomic(&path, text.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
+        written.push(path);
+    }
+    Ok(written)
+}
+
+fn measure_size(
+    n: usize,
+    options: &Options,
+    sides: &[Side],
+    setup: &Setup,
+    report: &mut Report,
+    progress: &dyn Fn(&str),
+) -> Result<SizeResult, String> {
+    let peak_rss_per_size = memory::reset_peak();
+    let config = benchmark_config(n)?;
+    let (mut engine, sample, walls) = benchmark_engine(&config)?;
+    let lammps_dir = options.out.join("lammps").join(format!("n{n}"));
+    if options.lammps {
+        std::fs::create_dir_all(&lammps_dir)
+            .map_err(|e| format!("{}: {e}", lammps_dir.display()))?;
+        lammps::export(&config, &sample, &walls, &lammps_dir)?;
+    }
+    drop(sample);
+
+    // Warm-up past the first contact changes (the top wall meeting the sample, the first
+    // contacts breaking), on all threads: a tenth of a measurement, at least 20 steps.
+    let at_least = (options.seconds / 10.0).clamp(0.02, 2.0);
+    let (probed, per_step) = probe(
+        |k| measure::time_cpu(&setup.warm_pool, &mut engine, k),
+        at_least,
+    )?;
+    let warm_total = steps_for(0.1 * options.seconds, per_step).clamp(20, 2000);
+    let rest = warm_total.saturating_sub(probed);
+    measure::time_cpu(&setup.warm_pool, &mut engine, rest)?;
+    let warmup_steps = probed + rest;
+    let start = engine;
+    let contacts_per_monomer = 2.0 * start.contacts.pair_contact_count() as f64 / n as f64;
+    progress(&format!(
+        "N = {n}: warmed up {warmup_steps} steps, {contacts_per_monomer:.2} contacts per monomer"
+    ));
+
+    // Steps per side, from each side's own probe.
+    let mut results: Vec<SideResult> = vec![SideResult::default(); sides.len()];
+    let mut gpu_engine: Option<GpuEngine> = None;
+    for (i, side) in sides.iter().enumerate() {
+        let r = &mut results[i];
+        let probed = match side.kind {
+            SideKind::Cpu(_) => {
+                let pool = setup.pools[i].as_ref().expect("a pool per cpu side");
+                let mut e = start.clone();
+                probe(|k| measure::time_cpu(pool, &mut e, k), at_least)
+            }
+            SideKind::Gpu => match &setup.gpu {
+                Err(why) => Err(why.clone()),
+                Ok(()) => measure::gpu_engine(&start.state).and_then(|mut e| {
+                    r.memory_mib = Some(e.sizes.total_bytes() as f64 / f64::from(1u32 << 20));
+                    probe(|k| measure::time_gpu(&mut e, k), at_least)
+                }),
+            },
+            SideKind::Lammps { ranks } => match &setup.lammps {
+                Err(why) => Err(why.clone()),
+                Ok(lmp) => {
+                    let steps = steps_for(at_least, per_step).min(1_000_000);
+                    lmp.run(
+                        &lammps_dir,
+                        ranks,
+                        warmup_steps,
+                        steps,
+                        &format!("probe.r{ranks}"),
+                    )
+                    .map(|run| {
+                        report.lammps_version = Some(run.version.clone());
+                        (steps, run.loop_seconds / steps as f64)
+                    })
+                }
+            },
+        };
+        match probed {
+            Ok((_, per_step)) => r.steps = steps_for(options.seconds, per_step),
+            Err(why) => {
+                let note = format!("N = {n}: {} not measured: {why}", side.label);
+                progress(&note);
+                r.skipped = Some(why);
+                if !matches!(side.kind, SideKind::Gpu if setup.gpu.is_err())
+                    && !matches!(side.kind, SideKind::Lammps { .. } if setup.lammps.is_err())
+                {
+                    report.notes.push(note);
+                }
+            }
+        }
+    }
+
+    let mut lammps_contacts = None;
+    for round in 1..=options.rounds {
+        for (i, side) in sides.iter().enumerate() {
+            let r = &mut results[i];
+            if r.skipped.is_some() {
+                continue;
+            }
+            let steps = r.steps;
+            let timed = match side.kind {
+                SideKind::Cpu(_) => {
+                    let pool = setup.pools[i].as_ref().expect("a pool per cpu side");
+                    let mut e = start.clone();
+                    e.pass_seconds = [0.0; 5];
+                    let timed = measure::time_cpu(pool, &mut e, steps);
+                    if timed.is_ok() {
+                        add_passes(&mut r.passes, &e.pass_seconds, steps);
+                    }
+                    timed
+                }
+                SideKind::Gpu => measure::gpu_engine(&start.state).and_then(|mut e| {
+                    let s = measure::time_gpu(&mut e, steps)?;
+                    gpu_engine = Some(e);
+                    Ok(s)
+                }),
+                SideKind::Lammps { ranks } => {
+                    let lmp = setup.lammps.as_ref().expect("checked by the probe");
+                    let tag = format!("round{round}.r{ranks}");
+                    lmp.run(&lammps_dir, ranks, warmup_steps, steps, &tag)
+                        .map(|run| {
+                            let times: Vec<f64> = measure::LAMMPS_SECTIONS
+                                .iter()
+                                .map(|name| {
+                                    run.sections
+                                        .iter()
+                                        .find(|(s, _)| s == name)
+                                        .map_or(0.0, |(_, t)| *t)
+                                })
+                                .collect();
+                            add_passes(&mut r.passes, &times, steps);
+                            r.memory_mib = run.memory_mib;
+                            if ranks == 1 {
+                                lammps_contacts = run.contacts_per_monomer;
+                            }
+                            run.loop_seconds
+                        })
+                }
+            };
+            match timed {
+                Ok(seconds) => {
+                    let rate = n as f64 * steps as f64 / seconds;
+                    progress(&format!(
+                        "N = {n}, round {round}: {} {rate:.3e} particle-steps/s ({steps} steps, \
+                         {seconds:.2} s)",
+                        side.label
+                    ));
+                    r.rates.push(rate);
+                }
+                Err(why) => {
+                    let note = format!("N = {n}, round {round}: {} stopped: {why}", side.label);
+                    progress(&note);
+                    report.notes.push(note);
+                    r.skipped = Some(why);
+                }
+            }
+        }
+    }
+    // The sums of the per-step pass times become means over the rounds that ran.
+    for r in &mut results {
+        let rounds = r.rates.len().max(1) as f64;
+        r.passes.iter_mut().for_each(|p| *p /= rounds);
+    }
+    if let (Some(i), Some(e)) = (
+        sides.iter().position(|s| s.kind == SideKind::Gpu),
+        gpu_engine.as_mut(),
+    ) {
+        // Timestamps around every dispatch of 20 ordinary steps, where the device has them.
+        match e.profile_passes(20) {
+            Ok(Some(times)) => results[i].passes = times.iter().map(|(_, s)| *s).collect(),
+            Ok(None) => report
+                .notes
+                .push("gpu: the adapter has no timestamps inside passes; no times per pass".into()),
+            Err(why) => report.notes.push(format!("N = {n}: gpu pass times: {why}")),
+        }
+    }
+    drop(gpu_engine);
+    Ok(SizeResult {
+        n,
+        warmup_steps,
+        contacts_per_monomer,
+        sides: results,
+        peak_rss_bytes: memory::peak_rss_bytes(),
+        peak_rss_per_size,
+        lammps_contacts_per_monomer: lammps_contacts,
+    })
+}
+
+/// Adds one round's pass times (seconds over `steps` steps) per step to `sum`.
+fn add_passes(sum: &mut Vec<f64>, seconds: &[f64], steps: u64) {
+    if sum.len() != seconds.len() {
+        *sum = vec![0.0; seconds.len()];
+    }
+    for (m, s) in sum.iter_mut().zip(seconds) {
+        *m += s / steps as f64;
+    }
+}
+
+/// "AMD EPYC …, 2 logical CPUs" from /proc/cpuinfo where there is one.
+fn host() -> String {
+    let model = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|text| {
+            text.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|m| m.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown CPU".into());
+    format!("{model}, {} logical CPUs", Threads::All.resolve())
+}

@@ -1,0 +1,220 @@
+//! What `dustdem bench` measures: sizes, time per measurement, rounds, thread counts, engines,
+//! and whether LAMMPS runs beside them. Every argument is checked here, so a bad value stops
+//! the command before anything runs, with a message naming the argument, the value and the
+//! allowed range.
+
+use std::path::PathBuf;
+
+/// Smallest and largest N: below 10 an RBD sample has hardly any contacts to measure; above
+/// 10⁷ the CPU state alone passes 10 GB.
+pub const SIZE_RANGE: (usize, usize) = (10, 10_000_000);
+/// Seconds per measurement.
+pub const SECONDS_RANGE: (f64, f64) = (0.05, 3600.0);
+pub const ROUNDS_RANGE: (usize, usize) = (1, 100);
+pub const THREADS_MAX: usize = 1024;
+/// MPI ranks of the LAMMPS runs: the ratios compare one rank with one thread and two ranks
+/// with all threads.
+pub const LAMMPS_RANKS: [usize; 2] = [1, 2];
+
+/// A thread count of the CPU engine: a number, or every core the machine offers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Threads {
+    Count(usize),
+    All,
+}
+
+impl Threads {
+    /// The number of threads this stands for on this machine.
+    pub fn resolve(self) -> usize {
+        match self {
+            Threads::Count(t) => t,
+            Threads::All => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        }
+    }
+}
+
+/// The benchmark's plan.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Options {
+    pub sizes: Vec<usize>,
+    /// Target wall-clock seconds of one measurement (one engine, one round).
+    pub seconds: f64,
+    pub rounds: usize,
+    /// CPU engine thread counts, in the order a round runs them (empty: no CPU columns).
+    pub threads: Vec<Threads>,
+    pub gpu: bool,
+    pub lammps: bool,
+    pub out: PathBuf,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            sizes: vec![1_000, 10_000, 100_000, 1_000_000],
+            seconds: 20.0,
+            rounds: 3,
+            threads: vec![Threads::Count(1), Threads::All],
+            gpu: true,
+            lammps: false,
+            out: PathBuf::from("bench"),
+        }
+    }
+}
+
+impl Options {
+    /// Options from the command line's strings (`--sizes 1000,10000`, `--threads 1,all`,
+    /// `--backends cpu,gpu`).
+    pub fn parse(
+        sizes: &str,
+        seconds: f64,
+        rounds: usize,
+        threads: &str,
+        backends: &str,
+        lammps: bool,
+        out: PathBuf,
+    ) -> Result<Options, String> {
+        let sizes = parse_sizes(sizes)?;
+        if !(seconds.is_finite() && (SECONDS_RANGE.0..=SECONDS_RANGE.1).contains(&seconds)) {
+            return Err(format!(
+                "--seconds {seconds}: out of range; allowed {} to {}",
+                SECONDS_RANGE.0, SECONDS_RANGE.1
+            ));
+        }
+        if !(ROUNDS_RANGE.0..=ROUNDS_RANGE.1).contains(&rounds) {
+            return Err(format!(
+                "--rounds {rounds}: out of range; allowed {} to {}",
+                ROUNDS_RANGE.0, ROUNDS_RANGE.1
+            ));
+        }
+        let (cpu, gpu) = parse_backends(backends)?;
+        let threads = if cpu {
+            parse_threads(threads)?
+        } else {
+            Vec::new()
+        };
+        Ok(Options {
+            sizes,
+            seconds,
+            rounds,
+            threads,
+            gpu,
+            lammps,
+            out,
+        })
+    }
+}
+
+fn list(text: &str) -> impl Iterator<Item = &str> {
+    text.split(',').map(str::trim)
+}
+
+fn parse_sizes(text: &str) -> Result<Vec<usize>, String> {
+    let mut sizes = Vec::new();
+    for item in list(text) {
+        let n: usize = item.parse().map_err(|_| {
+            format!(
+                "--sizes {text}: `{item}` is not a whole number; allowed {} to {}, comma-separated",
+                SIZE_RANGE.0, SIZE_RANGE.1
+            )
+        })?;
+        if !(SIZE_RANGE.0..=SIZE_RANGE.1).contains(&n) {
+            return Err(format!(
+                "--sizes {text}: {n} is out of range; allowed {} to {}",
+                SIZE_RANGE.0, SIZE_RANGE.1
+            ));
+        }
+        if sizes.contains(&n) {
+            return Err(format!("--sizes {text}: {n} is listed twice"));
+        }
+        sizes.push(n);
+    }
+    Ok(sizes)
+}
+
+fn parse_threads(text: &str) -> Result<Vec<Threads>, String> {
+    let mut threads = Vec::new();
+    for item in list(text) {
+        let t = if item == "all" {
+            Threads::All
+        } else {
+            match item.parse::<usize>() {
+                Ok(t) if (1..=THREADS_MAX).contains(&t) => Threads::Count(t),
+                _ => {
+                    return Err(format!(
+                        "--threads {text}: `{item}` is not allowed; each entry is `all` or a \
+                         number from 1 to {THREADS_MAX}"
+                    ))
+                }
+            }
+        };
+        if threads.contains(&t) {
+            return Err(format!("--threads {text}: `{item}` is listed twice"));
+        }
+        threads.push(t);
+    }
+    Ok(threads)
+}
+
+/// (cpu, gpu) from `--backends`.
+fn parse_backends(text: &str) -> Result<(bool, bool), String> {
+    let (mut cpu, mut gpu) = (false, false);
+    for item in list(text) {
+        match item {
+            "cpu" => cpu = true,
+            "gpu" => gpu = true,
+            other => {
+                return Err(format!(
+                    "--backends {text}: `{other}` is not an engine; allowed cpu, gpu or both \
+                     (cpu,gpu)"
+                ))
+            }
+        }
+    }
+    Ok((cpu, gpu))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(sizes: &str, threads: &str, backends: &str) -> Result<Options, String> {
+        Options::parse(sizes, 1.0, 1, threads, backends, false, "b".into())
+    }
+
+    #[test]
+    fn lists_are_parsed_in_order() {
+        let o = parse("1000, 200", "all,1,4", "gpu,cpu").unwrap();
+        assert_eq!(o.sizes, [1000, 200]);
+        assert_eq!(
+            o.threads,
+            [Threads::All, Threads::Count(1), Threads::Count(4)]
+        );
+        assert!(o.gpu);
+        assert!(parse("200", "1", "gpu").unwrap().threads.is_empty());
+    }
+
+    #[test]
+    fn bad_values_name_the_argument_value_and_range() {
+        let e = parse("5", "1", "cpu").unwrap_err();
+        assert!(
+            e.contains("--sizes 5") && e.contains("10 to 10000000"),
+            "{e}"
+        );
+        let e = parse("1e3", "1", "cpu").unwrap_err();
+        assert!(e.contains("`1e3`"), "{e}");
+        let e = parse("100", "0", "cpu").unwrap_err();
+        assert!(e.contains("--threads 0") && e.contains("1 to 1024"), "{e}");
+        let e = parse("100", "1", "tpu").unwrap_err();
+        assert!(
+            e.contains("--backends tpu") && e.contains("cpu, gpu"),
+            "{e}"
+        );
+        let e = Options::parse("100", 0.0, 1, "1", "cpu", false, "b".into()).unwrap_err();
+        assert!(
+            e.contains("--seconds 0") && e.contains("0.05 to 3600"),
+            "{e}"
+        );
+        let e = Options::parse("100", 1.0, 0, "1", "cpu", false, "b".into()).unwrap_err();
+        assert!(e.contains("--rounds 0") && e.contains("1 to 100"), "{e}");
+    }
+}

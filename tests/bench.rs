@@ -1,0 +1,274 @@
+//! `dustdem bench`: the LAMMPS export (data file and deck) and the tables the command writes.
+//! Small and fast; nothing here asserts a timing.
+
+mod common;
+
+use common::printed::{
+    k_r_wall, k_s_wall, zeta_crit_wall, A0, F_C, F_C_WALL, G_STAR, K_R, K_S, POISSON, RADIUS,
+    XI_CRIT, ZETA_CRIT,
+};
+use common::Scratch;
+use dustdem::bench::{benchmark_config, benchmark_engine, lammps};
+use std::process::Command;
+
+fn dustdem() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_dustdem"))
+}
+
+/// Every `pair_coeff` / `fix ... granular` number after `keyword`, by position.
+fn after(line: &str, keyword: &str, count: usize) -> Vec<f64> {
+    let words: Vec<&str> = line.split_whitespace().collect();
+    let at = words
+        .iter()
+        .position(|w| *w == keyword)
+        .unwrap_or_else(|| panic!("no `{keyword}` in `{line}`"));
+    words[at + 1..at + 1 + count]
+        .iter()
+        .map(|w| w.parse().unwrap_or_else(|_| panic!("`{w}` in `{line}`")))
+        .collect()
+}
+
+fn close(a: f64, b: f64, what: &str) {
+    // The printed constants carry six significant figures.
+    assert!(
+        (a - b).abs() <= 2e-5 * b.abs(),
+        "{what}: deck {a:e}, expected {b:e}"
+    );
+}
+
+fn export(n: usize) -> (Scratch, dustdem::sample::Sample) {
+    let dir = Scratch::new("bench-export");
+    let config = benchmark_config(n).unwrap();
+    let (_, sample, walls) = benchmark_engine(&config).unwrap();
+    lammps::export(&config, &sample, &walls, &dir).unwrap();
+    (dir, sample)
+}
+
+#[test]
+fn the_data_file_reads_back_the_positions_and_radius() {
+    let (dir, sample) = export(200);
+    let text = std::fs::read_to_string(dir.join(lammps::DATA)).unwrap();
+    let count: usize = text
+        .lines()
+        .find(|l| l.ends_with(" atoms"))
+        .and_then(|l| l.split_whitespace().next())
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert_eq!(count, 200);
+    let start = text.lines().position(|l| l.starts_with("Atoms")).unwrap();
+    let atoms: Vec<Vec<f64>> = text
+        .lines()
+        .skip(start + 1)
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| l.split_whitespace().map(|w| w.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(atoms.len(), 200);
+    for (i, (atom, p)) in atoms.iter().zip(&sample.positions).enumerate() {
+        // atom_style sphere: id type diameter density x y z.
+        assert_eq!(atom[0], (i + 1) as f64);
+        assert_eq!(atom[1], 1.0);
+        assert_eq!(atom[2], 2.0 * RADIUS, "diameter");
+        assert_eq!(atom[3], 2.65, "density");
+        assert_eq!(
+            [atom[4], atom[5], atom[6]],
+            *p,
+            "monomer {i}: exact round trip"
+        );
+    }
+    // Every monomer inside the box LAMMPS is given.
+    let bound = |name: &str| -> (f64, f64) {
+        let l = text.lines().find(|l| l.ends_with(name)).unwrap();
+        let w: Vec<f64> = l
+            .split_whitespace()
+            .take(2)
+            .map(|w| w.parse().unwrap())
+            .collect();
+        (w[0], w[1])
+    };
+    for (axis, name) in ["xlo xhi", "ylo yhi", "zlo zhi"].iter().enumerate() {
+        let (lo, hi) = bound(name);
+        assert!(sample
+            .positions
+            .iter()
+            .all(|p| p[axis] - RADIUS > lo && p[axis] + RADIUS < hi));
+    }
+}
+
+#[test]
+fn the_deck_has_the_coefficients_derived_by_hand() {
+    let (dir, _) = export(200);
+    let deck = std::fs::read_to_string(dir.join(lammps::DECK)).unwrap();
+    let line = |start: &str| {
+        deck.lines()
+            .find(|l| l.starts_with(start))
+            .unwrap_or_else(|| panic!("no `{start}` line"))
+            .to_string()
+    };
+    assert_eq!(line("pair_style"), "pair_style granular");
+    assert_eq!(line("units"), "units cgs");
+    assert_eq!(line("atom_style"), "atom_style sphere");
+    assert_eq!(line("timestep"), "timestep 3.000000000e-10");
+    // Skin 0.2 r.
+    close(
+        after(&line("neighbor"), "neighbor", 1)[0],
+        0.2 * RADIUS,
+        "skin",
+    );
+
+    // Monomer pairs: jkr E η ν γ with Table 1's E = 54 GPa, κ = 1e-6 g/s, ν, γ = 20 erg/cm².
+    let pair = line("pair_coeff * *");
+    assert!(pair.contains(" damping velocity "), "{pair}");
+    assert!(pair.ends_with(" twisting marshall"), "{pair}");
+    let jkr = after(&pair, "jkr", 4);
+    close(jkr[0], 5.4e11, "E");
+    close(jkr[1], 1e-6, "damping");
+    close(jkr[2], POISSON, "nu");
+    close(jkr[3], 20.0, "gamma");
+    // mindlin k_t a = k_s at a = a₀: k_t = k_s/a₀ = 8 G*; μ_s = k_s ζ_crit / (2 F_c).
+    let t = after(&pair, "mindlin", 3);
+    close(t[0], 8.0 * G_STAR, "k_t");
+    close(K_S / A0, 8.0 * G_STAR, "printed k_s / a0");
+    assert_eq!(t[1], 0.0, "no tangential damping");
+    close(t[2], K_S * ZETA_CRIT / (2.0 * F_C), "mu_s");
+    // rolling sds: k_roll = k_r, μ_roll = k_r ξ_crit / (2 F_c).
+    let r = after(&pair, "sds", 3);
+    close(r[0], K_R, "k_roll");
+    assert_eq!(r[1], 0.0);
+    close(r[2], K_R * XI_CRIT / (2.0 * F_C), "mu_roll");
+
+    // Walls: dmt with E/(1 + ν) (LAMMPS mixes E/(2(1 − ν)) there), caps over 2 × 4πγr =
+    // 8/3 F_c,wall; the side walls weakened 1000×.
+    let bottom = line("fix bottom");
+    assert!(bottom.contains("wall/gran granular dmt "), "{bottom}");
+    close(
+        after(&bottom, "dmt", 1)[0],
+        5.4e11 / (1.0 + POISSON),
+        "wall E",
+    );
+    let cap = 8.0 / 3.0 * F_C_WALL;
+    for (start, factor) in [("fix bottom", 1.0), ("fix top", 1.0), ("fix side_x", 1e-3)] {
+        let wall = line(start);
+        let t = after(&wall, "mindlin", 3);
+        close(t[0], factor * k_s_wall() / common::printed::A0_WALL, start);
+        close(t[2], factor * k_s_wall() * zeta_crit_wall() / cap, start);
+        let r = after(&wall, "sds", 3);
+        close(r[0], factor * k_r_wall(), start);
+        close(r[2], factor * k_r_wall() * XI_CRIT / cap, start);
+    }
+    assert!(line("fix top").contains("wall/gran/region"));
+    // The top wall moves at 1 m/s: 100 cm/s × 0.3 ns per step.
+    let dz = line("variable top_dz");
+    assert!(
+        dz.starts_with("variable top_dz equal -3.000000000e-8*step"),
+        "{dz}"
+    );
+    assert!(line("region top").contains("move NULL NULL v_top_dz units box"));
+}
+
+fn csv_header(path: &std::path::Path) -> Vec<String> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let header = text.lines().find(|l| !l.starts_with('#')).unwrap();
+    header.split(',').map(str::to_string).collect()
+}
+
+#[test]
+fn a_small_run_writes_both_tables() {
+    let dir = Scratch::new("bench-run");
+    let out = dir.join("tmp");
+    let result = dustdem()
+        .args([
+            "bench",
+            "--sizes",
+            "200",
+            "--seconds",
+            "1",
+            "--backends",
+            "cpu",
+        ])
+        .args(["--rounds", "1", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(result.status.success(), "{stderr}");
+    let md = std::fs::read_to_string(out.join("bench.md")).unwrap();
+    assert!(
+        md.contains("| N | contacts/monomer | cpu, 1 thread | cpu, all"),
+        "{md}"
+    );
+    assert!(md.contains("| 200 |"), "{md}");
+    assert!(md.contains("Cost per step"), "{md}");
+    let header = csv_header(&out.join("bench.csv"));
+    for column in [
+        "n",
+        "contacts_per_monomer",
+        "cpu_t1_steps",
+        "cpu_t1_rate",
+        "cpu_all_rate",
+        "peak_rss_mib",
+        "cpu_t1_us_forces",
+    ] {
+        assert!(header.iter().any(|h| h == column), "{column}: {header:?}");
+    }
+    let text = std::fs::read_to_string(out.join("bench.csv")).unwrap();
+    let row: Vec<&str> = text.lines().last().unwrap().split(',').collect();
+    assert_eq!(row.len(), header.len());
+    let rate: f64 = row[header.iter().position(|h| h == "cpu_t1_rate").unwrap()]
+        .parse()
+        .unwrap();
+    assert!(rate > 0.0);
+}
+
+#[test]
+fn bad_arguments_name_the_argument_and_the_range() {
+    let result = dustdem()
+        .args(["bench", "--sizes", "200,3", "--out", "/nonexistent/never"])
+        .output()
+        .unwrap();
+    assert_eq!(result.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(
+        stderr.contains("--sizes 200,3") && stderr.contains("10 to 10000000"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn lammps_runs_the_deck_where_it_is_installed() {
+    if lammps::run::on_path("lmp").is_none() {
+        eprintln!("notice: LAMMPS test not run: `lmp` is not on PATH (apt-get install lammps)");
+        return;
+    }
+    let dir = Scratch::new("bench-lammps");
+    let out = dir.join("out");
+    let result = dustdem()
+        .args([
+            "bench",
+            "--sizes",
+            "200",
+            "--seconds",
+            "0.5",
+            "--backends",
+            "cpu",
+        ])
+        .args(["--threads", "1", "--rounds", "1", "--lammps", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(result.status.success(), "{stderr}");
+    let header = csv_header(&out.join("bench.csv"));
+    let text = std::fs::read_to_string(out.join("bench.csv")).unwrap();
+    let row: Vec<&str> = text.lines().last().unwrap().split(',').collect();
+    let rate = row[header.iter().position(|h| h == "lammps_r1_rate").unwrap()];
+    let rate: f64 = rate
+        .parse()
+        .unwrap_or_else(|_| panic!("no LAMMPS rate `{rate}`: {stderr}"));
+    assert!(rate > 0.0);
+    // The timed run's log: every atom still there, contacts present.
+    let log = std::fs::read_to_string(out.join("lammps/n200/log.round1.r1.lammps")).unwrap();
+    let run = lammps::parse_log(&log).unwrap();
+    assert_eq!(run.atoms, 200);
+    assert!(run.contacts_per_monomer.unwrap() > 0.5, "{run:?}");
+}
