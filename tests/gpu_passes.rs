@@ -339,6 +339,7 @@ fn contacts_match_their_cpu_twin() {
         &cpu.monomers,
         &cpu.walls,
         &list.pairs,
+        &list.starts,
         &mut cpu.contacts,
         &mut tally,
     )

@@ -20,8 +20,12 @@ pub const LAMMPS_SECTIONS: [&str; 6] = ["Pair", "Neigh", "Comm", "Output", "Modi
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SideKind {
     Cpu(Threads),
+    /// The CPU engine with the monomers in the sample's order (no space-filling order).
+    CpuSampleOrder(Threads),
     Gpu,
-    Lammps { ranks: usize },
+    Lammps {
+        ranks: usize,
+    },
 }
 
 /// One engine configuration a round measures.
@@ -38,7 +42,9 @@ impl Side {
     /// The pass (or section) names this side reports times for.
     pub fn pass_names(&self) -> Vec<String> {
         match self.kind {
-            SideKind::Cpu(_) => PASS_NAMES.iter().map(|s| s.to_string()).collect(),
+            SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) => {
+                PASS_NAMES.iter().map(|s| s.to_string()).collect()
+            }
             SideKind::Gpu => GpuEngine::passes()
                 .iter()
                 .map(|k| ENTRY_POINTS[*k as usize].1.to_string())
@@ -64,6 +70,13 @@ pub fn sides(options: &Options) -> Vec<Side> {
             kind: SideKind::Cpu(t),
             key,
             label,
+        });
+    }
+    if options.sample_order && !options.threads.is_empty() {
+        sides.push(Side {
+            kind: SideKind::CpuSampleOrder(Threads::All),
+            key: "cpu_all_sample_order".into(),
+            label: format!("cpu, all {} threads, sample order", Threads::All.resolve()),
         });
     }
     if options.gpu {

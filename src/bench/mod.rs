@@ -23,7 +23,7 @@ use crate::backend::cpu::CpuEngine;
 use crate::backend::gpu::context::{GpuContext, Requirements};
 use crate::backend::gpu::engine::GpuEngine;
 use crate::config::Config;
-use crate::experiment::setup::{build_sample, build_walls, monomers_of};
+use crate::experiment::setup::{build_sample, build_walls, stored_monomers};
 use crate::output::atomic::write_atomic;
 use lammps::Lammps;
 use measure::{probe, sides, steps_for, Side, SideKind};
@@ -49,7 +49,7 @@ pub fn benchmark_engine(
     let engine = CpuEngine::new(
         law,
         config.dt(),
-        monomers_of(&sample),
+        stored_monomers(config, &sample),
         walls.clone(),
         config.integration.pair_slots,
         config.integration.wall_slots,
@@ -174,7 +174,7 @@ pub fn run_bench(options: &Options, progress: &dyn Fn(&str)) -> Result<Report, S
     let pools = sides
         .iter()
         .map(|s| match s.kind {
-            SideKind::Cpu(t) => pool(t.resolve()).map(Some),
+            SideKind::Cpu(t) | SideKind::CpuSampleOrder(t) => pool(t.resolve()).map(Some),
             _ => Ok(None),
         })
         .collect::<Result<Vec<_>, _>>()?;
@@ -241,6 +241,20 @@ fn measure_size(
     measure::time_cpu(&setup.warm_pool, &mut engine, rest)?;
     let warmup_steps = probed + rest;
     let start = engine;
+    // The same run with the monomers in the sample's order, warmed up by the same steps.
+    let sample_order_start = if options.sample_order {
+        let mut config = config.clone();
+        config.integration.space_filling_order = false;
+        let (mut engine, _, _) = benchmark_engine(&config)?;
+        measure::time_cpu(&setup.warm_pool, &mut engine, warmup_steps)?;
+        Some(engine)
+    } else {
+        None
+    };
+    let start_of = |kind: &SideKind| match kind {
+        SideKind::CpuSampleOrder(_) => sample_order_start.as_ref().expect("built above"),
+        _ => &start,
+    };
     let contacts_per_monomer = 2.0 * start.contacts.pair_contact_count() as f64 / n as f64;
     progress(&format!(
         "N = {n}: warmed up {warmup_steps} steps, {contacts_per_monomer:.2} contacts per monomer"
@@ -252,9 +266,9 @@ fn measure_size(
     for (i, side) in sides.iter().enumerate() {
         let r = &mut results[i];
         let probed = match side.kind {
-            SideKind::Cpu(_) => {
+            SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) => {
                 let pool = setup.pools[i].as_ref().expect("a pool per cpu side");
-                let mut e = start.clone();
+                let mut e = start_of(&side.kind).clone();
                 probe(|k| measure::time_cpu(pool, &mut e, k), at_least)
             }
             SideKind::Gpu => match &setup.gpu {
@@ -306,9 +320,9 @@ fn measure_size(
             }
             let steps = r.steps;
             let timed = match side.kind {
-                SideKind::Cpu(_) => {
+                SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) => {
                     let pool = setup.pools[i].as_ref().expect("a pool per cpu side");
-                    let mut e = start.clone();
+                    let mut e = start_of(&side.kind).clone();
                     e.pass_seconds = [0.0; 5];
                     let timed = measure::time_cpu(pool, &mut e, steps);
                     if timed.is_ok() {

@@ -44,6 +44,9 @@ pub struct Options {
     pub threads: Vec<Threads>,
     pub gpu: bool,
     pub lammps: bool,
+    /// Also time the CPU engine on all threads with the monomers in the sample's order, to
+    /// show what the space-filling storage order gains.
+    pub sample_order: bool,
     pub out: PathBuf,
 }
 
@@ -56,6 +59,7 @@ impl Default for Options {
             threads: vec![Threads::Count(1), Threads::All],
             gpu: true,
             lammps: false,
+            sample_order: false,
             out: PathBuf::from("bench"),
         }
     }
@@ -99,6 +103,7 @@ impl Options {
             threads,
             gpu,
             lammps,
+            sample_order: false,
             out,
         })
     }

@@ -37,6 +37,7 @@ pub fn ratio_specs(sides: &[Side]) -> Vec<RatioSpec> {
     add(all, find(SideKind::Lammps { ranks: 2 }));
     add(one, find(SideKind::Lammps { ranks: 1 }));
     add(gpu, all.or(one));
+    add(all, find(SideKind::CpuSampleOrder(Threads::All)));
     specs
 }
 
@@ -121,7 +122,7 @@ pub fn markdown(report: &Report) -> String {
         match side.kind {
             SideKind::Gpu => head.push("gpu buffers MiB".into()),
             SideKind::Lammps { .. } => head.push(format!("{} MiB/rank", side.label)),
-            SideKind::Cpu(_) => {}
+            SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) => {}
         }
     }
     if o.lammps {
@@ -138,7 +139,7 @@ pub fn markdown(report: &Report) -> String {
         row.extend(specs.iter().map(|r| ratio_cell(&ratios(size, r))));
         row.push(opt(size.peak_rss_bytes.map(|b| b as f64 / MIB), 0));
         for (side, r) in report.sides.iter().zip(&size.sides) {
-            if !matches!(side.kind, SideKind::Cpu(_)) {
+            if !matches!(side.kind, SideKind::Cpu(_) | SideKind::CpuSampleOrder(_)) {
                 row.push(opt(r.memory_mib, 1));
             }
         }
@@ -183,7 +184,7 @@ pub fn markdown(report: &Report) -> String {
             match side.kind {
                 SideKind::Lammps { .. } => "section of LAMMPS's timing breakdown (mean over ranks)",
                 SideKind::Gpu => "kernel (timestamps around every dispatch of 20 steps)",
-                SideKind::Cpu(_) => "pass",
+                SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) => "pass",
             }
         ));
         line("");
@@ -230,7 +231,7 @@ pub fn csv_header(report: &Report) -> Vec<String> {
         match side.kind {
             SideKind::Gpu => h.push("gpu_buffers_mib".into()),
             SideKind::Lammps { .. } => h.push(format!("{}_mib_per_rank", side.key)),
-            SideKind::Cpu(_) => {}
+            SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) => {}
         }
     }
     if report.options.lammps {
@@ -293,7 +294,7 @@ pub fn csv(report: &Report) -> String {
         }
         row.push(cell(size.peak_rss_bytes.map(|b| b as f64 / MIB)));
         for (side, r) in report.sides.iter().zip(&size.sides) {
-            if !matches!(side.kind, SideKind::Cpu(_)) {
+            if !matches!(side.kind, SideKind::Cpu(_) | SideKind::CpuSampleOrder(_)) {
                 row.push(cell(r.memory_mib));
             }
         }

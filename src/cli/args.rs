@@ -122,6 +122,10 @@ pub(super) enum Command {
         /// run it on 1 and 2 MPI ranks.
         #[arg(long)]
         lammps: bool,
+        /// Also time the CPU engine on all threads with the monomers stored in the sample's
+        /// order instead of the space-filling order, to show what that order gains.
+        #[arg(long)]
+        sample_order: bool,
         #[arg(long, default_value = "bench")]
         out: PathBuf,
     },

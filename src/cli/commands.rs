@@ -270,9 +270,11 @@ pub(super) fn bench(
     threads: &str,
     backends: &str,
     lammps: bool,
+    sample_order: bool,
     out: PathBuf,
 ) -> Result<(), String> {
-    let options = BenchOptions::parse(sizes, seconds, rounds, threads, backends, lammps, out)?;
+    let mut options = BenchOptions::parse(sizes, seconds, rounds, threads, backends, lammps, out)?;
+    options.sample_order = sample_order;
     let progress = |line: &str| eprintln!("{line}");
     let report = run_bench(&options, &progress)?;
     for path in write_tables(&report)? {

@@ -3,13 +3,12 @@
 //! the energy channels.
 
 use super::measure::{filling_factor, projected_area};
-use super::setup::{build_sample, build_walls, monomers_of, SetupError, TOP_WALL};
+use super::setup::{build_sample, build_walls, stored_monomers, SetupError, TOP_WALL};
 use crate::binary::{DecodeError, Decoder, Encoder};
 use crate::config::{Config, ExperimentKind};
 use crate::engine::{Engine, EngineError};
 use crate::model::ContactLaw;
 use crate::sample::{slab_profile, Footprint};
-use crate::state::order::space_filling_order;
 use crate::state::{EnergyReport, Monomers, State, Wall};
 use std::fmt;
 
@@ -243,15 +242,10 @@ impl<E: Engine> Compression<E> {
         let law = config.contact_law();
         let sample = build_sample(config, &law).map_err(RunError::Setup)?;
         let walls = build_walls(config, &law, &sample).map_err(RunError::Setup)?;
-        let mut monomers = monomers_of(&sample);
-        if config.integration.space_filling_order {
-            let order = space_filling_order(&monomers.position, 2.0 * law.radius);
-            monomers = monomers.permuted(&order);
-        }
         let engine = build(
             law,
             config.dt(),
-            monomers,
+            stored_monomers(config, &sample),
             walls,
             config.integration.pair_slots,
             config.integration.wall_slots,

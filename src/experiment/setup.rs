@@ -3,6 +3,7 @@
 use crate::config::{Config, ExperimentKind, FootprintKind, SampleSource};
 use crate::model::ContactLaw;
 use crate::sample::{generate_rbd, side_for_cube, Footprint, RbdParams, Sample};
+use crate::state::order::space_filling_order;
 use crate::state::{Monomers, Wall};
 use glam::DVec3;
 use std::fmt;
@@ -134,6 +135,18 @@ pub fn build_walls(
         }
     }
     Ok(walls)
+}
+
+/// The monomers an engine starts from: the sample's, in the storage order the config asks for
+/// (`[integration] space_filling_order`), each keeping its sample number as its id.
+pub fn stored_monomers(config: &Config, sample: &Sample) -> Monomers {
+    let monomers = monomers_of(sample);
+    if config.integration.space_filling_order {
+        let order = space_filling_order(&monomers.position, 2.0 * sample.radius);
+        monomers.permuted(&order)
+    } else {
+        monomers
+    }
 }
 
 pub fn monomers_of(sample: &Sample) -> Monomers {

@@ -21,18 +21,21 @@ struct Row<'a> {
 }
 
 /// Removes broken contacts and adds new ones; `candidates` are the neighbour-list pairs
-/// (i < j, sorted).
+/// (i < j, sorted), `starts` where each owner's begin ([`super::neighbours::owner_starts`]).
+/// Returns whether any contact formed or broke.
+#[allow(clippy::too_many_arguments)]
 pub fn contacts(
     law: &ContactLaw,
     dt: f64,
     monomers: &Monomers,
     walls: &[Wall],
     candidates: &[(u32, u32)],
+    starts: &[u32],
     table: &mut ContactTable,
     tally: &mut Dissipation,
-) -> Result<(), EngineError> {
+) -> Result<bool, EngineError> {
     let (ps, ws) = (table.pair_slots, table.wall_slots);
-    let chunks: Vec<Result<Dissipation, EngineError>> = (
+    let chunks: Vec<Result<(Dissipation, bool), EngineError>> = (
         table.pair.par_chunks_mut(CHUNK * ps),
         table.pair_count.par_chunks_mut(CHUNK),
         table.wall.par_chunks_mut(CHUNK * ws),
@@ -42,6 +45,7 @@ pub fn contacts(
         .enumerate()
         .map(|(chunk, (pairs, pair_counts, wall_rows, wall_counts))| {
             let mut dissipated = Dissipation::default();
+            let mut changed = false;
             for (k, (pair_count, wall_count)) in pair_counts
                 .iter_mut()
                 .zip(wall_counts.iter_mut())
@@ -54,37 +58,26 @@ pub fn contacts(
                     wall: &mut wall_rows[k * ws..(k + 1) * ws],
                     wall_count,
                 };
-                owner_contacts(
-                    law,
-                    dt,
-                    monomers,
-                    walls,
-                    candidates,
-                    i,
-                    &mut row,
-                    &mut dissipated,
-                )?;
+                let mine = &candidates[starts[i] as usize..starts[i + 1] as usize];
+                changed |=
+                    owner_contacts(law, dt, monomers, walls, mine, i, &mut row, &mut dissipated)?;
             }
-            Ok(dissipated)
+            Ok((dissipated, changed))
         })
         .collect();
     let mut sums = Vec::with_capacity(chunks.len());
+    let mut changed = false;
     for c in chunks {
-        sums.push(c?);
+        let (sum, c) = c?;
+        sums.push(sum);
+        changed |= c;
     }
     tally.add(&sum_in_order(&sums));
-    Ok(())
+    Ok(changed)
 }
 
-/// The candidates owned by monomer `i` (the list is sorted by owner).
-fn candidates_of(candidates: &[(u32, u32)], i: usize) -> &[(u32, u32)] {
-    let i = i as u32;
-    let start = candidates.partition_point(|&(a, _)| a < i);
-    let end = start + candidates[start..].partition_point(|&(a, _)| a == i);
-    &candidates[start..end]
-}
-
-/// Breaks, then forms, the pair and wall contacts of owner `i`.
+/// Breaks, then forms, the pair and wall contacts of owner `i` (`candidates` are its own);
+/// returns whether any formed or broke.
 #[allow(clippy::too_many_arguments)]
 fn owner_contacts(
     law: &ContactLaw,
@@ -95,8 +88,10 @@ fn owner_contacts(
     i: usize,
     row: &mut Row,
     tally: &mut Dissipation,
-) -> Result<(), EngineError> {
+) -> Result<bool, EngineError> {
     let r = law.radius;
+    let counts_before = (*row.pair_count, *row.wall_count);
+    let mut broke = false;
     let pos = &monomers.position;
     // Break.
     let mut slot = 0;
@@ -105,6 +100,7 @@ fn owner_contacts(
         let delta = 2.0 * r - (pos[i] - pos[c.partner as usize]).length();
         if delta < -law.pair.delta_c {
             tally.breaking += pair_step_energy(law, monomers, dt, i, &c);
+            broke = true;
             row.pair[slot] = row.pair[*row.pair_count as usize - 1];
             *row.pair_count -= 1;
         } else {
@@ -118,6 +114,7 @@ fn owner_contacts(
         let delta = wall_law::wall_overlap(pos[i], w.point, w.normal, r);
         if delta < -w.constants.delta_c {
             tally.walls += wall_step_energy(law, monomers, dt, i, w, &c);
+            broke = true;
             row.wall[slot] = row.wall[*row.wall_count as usize - 1];
             *row.wall_count -= 1;
         } else {
@@ -125,7 +122,7 @@ fn owner_contacts(
         }
     }
     // Form.
-    for &(_, j) in candidates_of(candidates, i) {
+    for &(_, j) in candidates {
         let d = pos[i] - pos[j as usize];
         let distance = d.length();
         let count = *row.pair_count as usize;
@@ -177,5 +174,5 @@ fn owner_contacts(
         row.wall[count] = c;
         *row.wall_count += 1;
     }
-    Ok(())
+    Ok(broke || counts_before != (*row.pair_count, *row.wall_count))
 }

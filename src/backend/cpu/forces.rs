@@ -153,7 +153,10 @@ pub fn forces(
     workspace: &mut Workspace,
 ) {
     let dissipated = forces_per_slot(law, dt, monomers, table, workspace);
-    workspace.incoming.rebuild(table);
+    if !workspace.partner_index_current {
+        workspace.incoming.rebuild(table);
+        workspace.partner_index_current = true;
+    }
     gather_pair_forces(monomers, table, workspace);
     tally.add(&dissipated);
 }

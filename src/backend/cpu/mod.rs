@@ -91,6 +91,7 @@ impl CpuEngine {
             &s.monomers,
             &s.walls,
             &engine.neighbours.pairs,
+            &engine.neighbours.starts,
             &mut s.contacts,
             &mut s.tally,
         )?;
@@ -164,12 +165,13 @@ impl CpuEngine {
         self.pass_seconds[1] += clock.elapsed().as_secs_f64();
         let clock = std::time::Instant::now();
         let step = s.step;
-        contacts::contacts(
+        let changed = contacts::contacts(
             &s.law,
             s.dt,
             &s.monomers,
             &s.walls,
             &self.neighbours.pairs,
+            &self.neighbours.starts,
             &mut s.contacts,
             &mut s.tally,
         )
@@ -187,6 +189,9 @@ impl CpuEngine {
             },
             other => other,
         })?;
+        if changed {
+            self.workspace.partner_index_current = false;
+        }
         self.pass_seconds[2] += clock.elapsed().as_secs_f64();
         self.damping_before.clone_from(&s.monomers.damping_force);
         let wall_force_before = s.wall_force.clone();

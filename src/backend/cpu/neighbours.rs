@@ -16,6 +16,8 @@ pub struct NeighbourList {
     pub skin: f64,
     /// Candidate pairs (i < j), sorted.
     pub pairs: Vec<(u32, u32)>,
+    /// Where each monomer's candidates start in `pairs` (n + 1 entries; see [`owner_starts`]).
+    pub starts: Vec<u32>,
     reference: Vec<DVec3>,
     pub rebuilds: u64,
 }
@@ -26,6 +28,7 @@ impl NeighbourList {
             contact_distance,
             skin,
             pairs: Vec::new(),
+            starts: Vec::new(),
             reference: Vec::new(),
             rebuilds: 0,
         }
@@ -42,11 +45,25 @@ impl NeighbourList {
                 .any(|(p, r)| (*p - *r).length_squared() > limit);
         if stale {
             self.pairs = bin_pairs(position, self.contact_distance + self.skin);
+            self.starts = owner_starts(&self.pairs, position.len());
             self.reference = position.to_vec();
             self.rebuilds += 1;
         }
         stale
     }
+}
+
+/// For pairs sorted by owner, the index of each owner's first pair (n + 1 entries, the last
+/// one the number of pairs): owner i's pairs are `pairs[starts[i]..starts[i + 1]]`.
+pub fn owner_starts(pairs: &[(u32, u32)], n: usize) -> Vec<u32> {
+    let mut starts = vec![0u32; n + 1];
+    for &(i, _) in pairs {
+        starts[i as usize + 1] += 1;
+    }
+    for i in 0..n {
+        starts[i + 1] += starts[i];
+    }
+    starts
 }
 
 fn cell_of(p: DVec3, cell: f64) -> [i64; 3] {

@@ -62,12 +62,12 @@ pub fn wall_forces_per_slot(
 ) -> Dissipation {
     let slots = table.wall_slots;
     let len = monomers.len() * slots;
+    // Slots beyond a monomer's count are never read, so stale values there are harmless.
     for v in [
         &mut workspace.wall_force,
         &mut workspace.wall_damping,
         &mut workspace.wall_torque,
     ] {
-        v.clear();
         v.resize(len, DVec3::ZERO);
     }
     let counts = &table.wall_count;

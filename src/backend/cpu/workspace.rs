@@ -68,6 +68,9 @@ impl PartnerIndex {
 pub struct Workspace {
     pub pair_result: Vec<PairResult>,
     pub incoming: PartnerIndex,
+    /// Whether `incoming` describes the table as it is: the contacts pass clears it when a
+    /// contact forms or breaks (the only changes that move slots).
+    pub partner_index_current: bool,
     /// Per wall-contact slot: force on the monomer, its damping part, torque.
     pub wall_force: Vec<DVec3>,
     pub wall_damping: Vec<DVec3>,
