@@ -13,6 +13,7 @@ pub mod energy;
 pub mod interaction;
 pub mod monomers;
 pub mod reduction;
+pub mod rows;
 pub mod tally;
 pub mod walls;
 
