@@ -7,6 +7,7 @@
 use super::buffers::{Buffers, MAX_BINDINGS_PER_PASS};
 use super::context::GpuContext;
 use super::layout::{ARGS_REBUILD, WORK_CONTACTS, WORK_PAIRS};
+use super::quirks;
 use super::shader::{assemble_pass, Assembled, ShaderError};
 use super::spirv::entry_bindings;
 
@@ -123,6 +124,9 @@ impl Kernels {
         // Each pass validated once: (name, text, naga module, analysis).
         type Validated = (Assembled, naga::Module, naga::valid::ModuleInfo);
         let mut passes: Vec<(&str, Validated)> = Vec::new();
+        let summary = ctx.summary();
+        let storage_uniforms =
+            quirks::recompiles_per_dispatch_with_uniforms(&summary.driver, &summary.driver_info);
         let mut kernels = Kernels {
             bindings: Vec::new(),
             layouts: Vec::new(),
@@ -133,6 +137,9 @@ impl Kernels {
                 let mut assembled = assemble_pass(pass)?;
                 if one_slot_chunk {
                     assembled = assembled.with_one_slot_chunk();
+                }
+                if storage_uniforms {
+                    assembled = assembled.with_storage_uniforms();
                 }
                 let (module, info) = assembled.validate()?;
                 passes.push((pass, (assembled, module, info)));
