@@ -5,6 +5,7 @@
 //! Experiments are written against this trait alone; which backend runs is chosen in `job`.
 
 use crate::model::ContactLaw;
+use crate::state::rows::{RowMeasures, RowRequest};
 use crate::state::{simulated_time, EnergyReport, State, Wall};
 use glam::DVec3;
 use std::borrow::Cow;
@@ -117,6 +118,15 @@ pub trait Engine {
     /// (monomer–monomer contacts, monomer–wall contacts).
     fn contact_counts(&self) -> (usize, usize);
     fn energy(&self) -> EnergyReport;
+    /// What a measurement row reads of the state: energies and contact counts, and as
+    /// requested the solid volume per slab and the projected area, reduced in the fixed order
+    /// of `state::rows`. A device reduces them on its side and reads back a few numbers (the
+    /// full state would be gigabytes per row at 10⁶ monomers); by default they come from
+    /// [`Engine::state`], which the CPU engine holds. `&mut`: a device may grow its scratch
+    /// buffers for a larger profile or raster.
+    fn row_measures(&mut self, request: &RowRequest) -> Result<RowMeasures, EngineError> {
+        Ok(self.state().row_measures(request))
+    }
     /// The complete state (borrowed where the engine holds it, read back from a device): for
     /// checkpoints, snapshots and failure reports.
     fn state(&self) -> Cow<'_, State>;

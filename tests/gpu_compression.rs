@@ -172,7 +172,7 @@ fn loaded() -> &'static (CpuEngine, f64, f64) {
                 Ok(())
             })
             .unwrap();
-        let area = loading.area();
+        let area = loading.area().unwrap();
         (loading.engine, area, phi)
     })
 }

@@ -143,6 +143,26 @@ const DIAG_STEPS: u32 = 10u;
 const DIAG_WALL_FORCE: u32 = 16u;
 const DIAG_WALL_FORCE_SUM: u32 = 48u;
 const DIAG_SIZE: u32 = 80u;
+// The row measures (passes/rows.wgsl) in `row_data` (f64): what the host writes before the
+// row kernels run, then their results, then the per-block partial sums.
+const ROW_MASS: u32 = 0u;
+const ROW_INERTIA: u32 = 1u;
+// 4/3 π r³, slabs of a profile (bottom, thickness, count), the raster of the projected area
+// (x0, y0, pixel edge, pixels in x and y); counts as f64.
+const ROW_SPHERE: u32 = 2u;
+const ROW_SLAB_BOTTOM: u32 = 3u;
+const ROW_SLAB_THICKNESS: u32 = 4u;
+const ROW_SLABS: u32 = 5u;
+const ROW_X0: u32 = 6u;
+const ROW_Y0: u32 = 7u;
+const ROW_PIXEL: u32 = 8u;
+const ROW_NX: u32 = 9u;
+const ROW_NY: u32 = 10u;
+// Results of row_sums_final: kinetic, rotational, normal, tangential energy; least x, y and
+// greatest x, y of the centres (ROW_SUMS numbers, as per block from ROW_PARTIALS on).
+const ROW_RESULTS: u32 = 16u;
+const ROW_SUMS: u32 = 8u;
+const ROW_PARTIALS: u32 = 24u;
 
 @group(0) @binding(0) var<uniform> params: Params;
 // The walls, declared three ways over one buffer (backend::gpu::buffers::ALIASES). Indexed by a wall
@@ -244,6 +264,13 @@ const DIAG_SIZE: u32 = 80u;
 // cleared by integrate_kick, set by integrate_pairs (or contacts_pair_tests), read by
 // contacts_scan.
 @group(0) @binding(50) var<storage, read_write> pair_tests: array<atomic<u32>>;
+// The row measures (passes/rows.wgsl): parameters, results and block sums (ROW_*); the solid
+// volume per slab (row_profile[k]) and per (slab, block) after them (at ROW_SLABS + k · blocks
+// + b); the count of covered pixels (row_bits[0]) and the coverage bitmap after it. The last
+// two grow with the profile and the raster (backend::gpu::engine::rows).
+@group(0) @binding(51) var<storage, read_write> row_data: array<f64>;
+@group(0) @binding(52) var<storage, read_write> row_profile_data: array<f64>;
+@group(0) @binding(53) var<storage, read_write> row_bits: array<atomic<u32>>;
 
 // Which binding of a per-slot array holds slot index `idx`, and where: (chunk, element).
 fn slot_chunk_of(idx: u32) -> vec2<u32> {

@@ -2,13 +2,14 @@
 //! `average_steps` steps: wall pressures averaged over those steps, filling factor, contacts and
 //! the energy channels.
 
-use super::measure::{filling_factor, projected_area};
+use super::measure::filling_factor;
 use super::setup::{build_sample, build_walls, stored_monomers, SetupError, TOP_WALL};
 use crate::binary::{DecodeError, Decoder, Encoder};
 use crate::config::{Config, ExperimentKind};
 use crate::engine::{Engine, EngineError};
 use crate::model::ContactLaw;
-use crate::sample::{slab_profile, Footprint};
+use crate::sample::Footprint;
+use crate::state::rows::{RowMeasures, RowRequest, Slabs};
 use crate::state::{EnergyReport, Monomers, State, Wall};
 use std::fmt;
 
@@ -264,12 +265,28 @@ impl<E: Engine> Compression<E> {
         })
     }
 
-    /// Cross-section for φ and P: the box base (omni) or the projected area (uni).
-    pub fn area(&self) -> f64 {
+    /// Cross-section for φ and P: the box base (omni) or the projected area (uni), from the
+    /// row measures `m` (which hold it where it was requested).
+    fn area_of(&self, m: &RowMeasures) -> f64 {
         match self.kind {
             ExperimentKind::Omni => self.footprint.area(),
-            _ => projected_area(&self.engine.positions(), self.engine.law().radius),
+            _ => m.projected_area.expect("requested for every uni row"),
         }
+    }
+
+    /// What every row asks the engine for: the projected area for a uni run (the box base of
+    /// an omni run is known), and the slabs of a profile where one is due.
+    fn request(&self, slabs: Option<Slabs>) -> RowRequest {
+        RowRequest {
+            slabs,
+            projected_area: self.kind != ExperimentKind::Omni,
+        }
+    }
+
+    /// Cross-section for φ and P now: the box base (omni) or the projected area (uni).
+    pub fn area(&mut self) -> Result<f64, EngineError> {
+        let m = self.engine.row_measures(&self.request(None))?;
+        Ok(self.area_of(&m))
     }
 
     pub fn wall_gap(&self) -> f64 {
@@ -277,14 +294,15 @@ impl<E: Engine> Compression<E> {
         (w[TOP_WALL].point - w[0].point).dot(w[0].normal)
     }
 
-    fn measure(&self, p_top: f64, p_bottom: f64) -> Row {
+    fn measure(&mut self, p_top: f64, p_bottom: f64) -> Result<Row, EngineError> {
+        let m = self.engine.row_measures(&self.request(None))?;
         let e = &self.engine;
-        let area = self.area();
+        let area = self.area_of(&m);
         let gap = self.wall_gap();
         let v_mono = 4.0 / 3.0 * std::f64::consts::PI * e.law().radius.powi(3);
-        let (contacts, wall_contacts) = e.contact_counts();
+        let (contacts, wall_contacts) = m.contacts;
         // dyn/cm² → Pa
-        Row {
+        Ok(Row {
             step: e.step_count(),
             time: e.time(),
             wall_gap: gap,
@@ -294,23 +312,22 @@ impl<E: Engine> Compression<E> {
             p_bottom: 0.1 * p_bottom / area,
             contacts,
             wall_contacts,
-            energy: e.energy(),
-        }
+            energy: m.energy,
+        })
     }
 
-    pub fn profile(&self) -> Vec<(f64, f64)> {
-        let e = &self.engine;
-        let r = e.law().radius;
-        let bottom = e.walls()[0].point.z;
-        let top = e.walls()[TOP_WALL].point.z;
-        slab_profile(
-            e.positions().iter().map(|p| p.z),
-            r,
-            self.area(),
-            bottom,
-            top,
-            2.0 * r,
-        )
+    /// Filling factor in slabs one diameter thick between the bottom and the top wall, over
+    /// the cross-section `area` of the row it belongs to.
+    pub fn profile(&mut self, area: f64) -> Result<Vec<(f64, f64)>, EngineError> {
+        let r = self.engine.law().radius;
+        let w = self.engine.walls();
+        let slabs = Slabs::between(w[0].point.z, w[TOP_WALL].point.z, 2.0 * r);
+        let request = RowRequest {
+            slabs: Some(slabs),
+            projected_area: false,
+        };
+        let m = self.engine.row_measures(&request)?;
+        Ok(slabs.profile(&m.slab_volumes, area))
     }
 
     /// Runs until a stop rule fires, reporting rows (and profiles) through `report`.
@@ -319,16 +336,17 @@ impl<E: Engine> Compression<E> {
         report: &mut dyn FnMut(Event<E>) -> Result<(), RunError>,
     ) -> Result<StopReason, RunError> {
         if self.engine.step_count() == 0 {
-            let first = self.measure(f64::NAN, f64::NAN);
+            let first = self.measure(f64::NAN, f64::NAN)?;
             report(Event::Row(&first))?;
-            report(Event::Profile(&first, &self.profile()))?;
+            let profile = self.profile(first.area)?;
+            report(Event::Profile(&first, &profile))?;
         }
         loop {
             let mean = self.engine.run_mean_wall_force(self.average_steps)?;
             let w = self.engine.walls();
             let top = mean[TOP_WALL].dot(w[TOP_WALL].normal);
             let bottom = mean[0].dot(w[0].normal);
-            let row = self.measure(top, bottom);
+            let row = self.measure(top, bottom)?;
             self.rows += 1;
             report(Event::Row(&row))?;
             let stop = if row.phi >= self.phi_stop {
@@ -343,7 +361,8 @@ impl<E: Engine> Compression<E> {
             if stop.is_some()
                 || (self.profile_every > 0 && self.rows.is_multiple_of(self.profile_every))
             {
-                report(Event::Profile(&row, &self.profile()))?;
+                let profile = self.profile(row.area)?;
+                report(Event::Profile(&row, &profile))?;
             }
             if let Some(reason) = stop {
                 return Ok(reason);

@@ -14,6 +14,7 @@ pub mod interaction;
 pub mod monomers;
 pub mod order;
 pub mod reduction;
+pub mod rows;
 pub mod tally;
 pub mod walls;
 

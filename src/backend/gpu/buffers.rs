@@ -6,7 +6,8 @@
 
 use super::layout::{
     GpuParams, GpuWall, ARGS_REBUILD, DIAG_SIZE, EVENT_LISTS, FLAG_COUNT, INCOMING_CAPACITY,
-    MAX_WALLS, NEIGHBOUR_CAPACITY, REDUCE_BLOCK, SLOT_CHUNKS, TALLY_STRIDE, WORK_LISTS,
+    MAX_WALLS, NEIGHBOUR_CAPACITY, REDUCE_BLOCK, ROW_PARTIALS, ROW_SUMS, SLOT_CHUNKS, TALLY_STRIDE,
+    WORK_LISTS,
 };
 use std::fmt;
 
@@ -15,7 +16,7 @@ const VEC4: u64 = 32;
 
 /// Binding names in binding order (index = binding number of bindings.wgsl). A per-slot
 /// vector array is [`SLOT_CHUNKS`] bindings, `<array>_0` … `<array>_2`.
-pub const BINDINGS: [&str; 51] = [
+pub const BINDINGS: [&str; 54] = [
     "params",
     "walls",
     "position",
@@ -67,6 +68,9 @@ pub const BINDINGS: [&str; 51] = [
     "wall_damping",
     "wall_torque",
     "pair_tests",
+    "row_data",
+    "row_profile_data",
+    "row_bits",
 ];
 
 /// Bindings that are another binding's buffer under a second declaration: (alias, buffer).
@@ -150,7 +154,7 @@ impl Sizes {
     }
 
     /// Bytes of every binding, in binding order.
-    pub fn binding_bytes(&self) -> [u64; 51] {
+    pub fn binding_bytes(&self) -> [u64; 54] {
         let n = self.monomers as u64;
         let ws = self.wall_slots as u64;
         let ps = self.pair_slots as u64;
@@ -210,6 +214,11 @@ impl Sizes {
             n * ws * VEC4,
             n * ws * VEC4,
             n * 4,
+            (ROW_PARTIALS + ROW_SUMS * blocks as usize) as u64 * 8,
+            // The profile's and the raster's scratch start empty and grow on demand
+            // (engine::rows): their size depends on the walls and on the sample's extent.
+            0,
+            0,
         ]
     }
 
@@ -381,11 +390,25 @@ impl Buffers {
     }
 
     pub fn get(&self, name: &str) -> &wgpu::Buffer {
-        let i = BINDINGS
+        &self.bindings[Self::index(name)]
+    }
+
+    fn index(name: &str) -> usize {
+        BINDINGS
             .iter()
             .position(|b| *b == name)
-            .unwrap_or_else(|| panic!("no binding `{name}`"));
-        &self.bindings[i]
+            .unwrap_or_else(|| panic!("no binding `{name}`"))
+    }
+
+    /// Replaces the buffer of binding `name` by a zero-filled one of at least `bytes` (a
+    /// scratch buffer that has to grow); the bind groups must be built again.
+    pub fn grow(&mut self, device: &wgpu::Device, name: &'static str, bytes: u64) {
+        self.bindings[Self::index(name)] = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(name),
+            size: bytes.max(64).next_multiple_of(8),
+            usage: STORAGE,
+            mapped_at_creation: false,
+        });
     }
 
     /// Flags (u32, padded to 8 bytes) then the diagnostics block (f64).

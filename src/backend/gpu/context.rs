@@ -140,6 +140,13 @@ impl fmt::Display for AdapterSummary {
                 FloatMode::Relaxed => " (WGSL: the driver may fuse and reassociate)",
             }
         )?;
+        if super::quirks::recompiles_per_dispatch_with_uniforms(&self.driver, &self.driver_info) {
+            writeln!(
+                f,
+                "  uniform buffers declared as storage (this lavapipe, before Mesa 23, recompiles \
+                 and keeps a pass that reads uniforms at every dispatch)"
+            )?;
+        }
         writeln!(f, "  features: {:?}", self.features)?;
         writeln!(
             f,

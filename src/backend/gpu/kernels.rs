@@ -1,17 +1,18 @@
 //! Compute pipelines of the engine, built once: one per entry point, each with an explicit
 //! layout holding only the bindings of shaders/engine/bindings.wgsl its entry point uses (naga
 //! says which), and one bind group per entry point built once per engine. The engine declares
-//! more bindings (50) than a device binds per stage (lavapipe: 32 storage buffers on Mesa 22);
+//! more bindings (54) than a device binds per stage (lavapipe: 32 storage buffers on Mesa 22);
 //! no pass uses more than [`MAX_BINDINGS_PER_PASS`].
 
 use super::buffers::{Buffers, MAX_BINDINGS_PER_PASS};
 use super::context::GpuContext;
 use super::layout::{ARGS_REBUILD, WORK_CONTACTS, WORK_PAIRS};
+use super::quirks;
 use super::shader::{assemble_pass, Assembled, ShaderError};
 use super::spirv::entry_bindings;
 
 /// Entry points in step order, with the pass file (without `.wgsl`) that holds each.
-pub const ENTRY_POINTS: [(&str, &str); 18] = [
+pub const ENTRY_POINTS: [(&str, &str); 24] = [
     ("integrate", "integrate_kick"),
     ("integrate", "integrate_pairs"),
     ("integrate", "integrate_drift"),
@@ -30,6 +31,12 @@ pub const ENTRY_POINTS: [(&str, &str); 18] = [
     ("contacts", "contacts_clear_tally"),
     ("contacts", "contacts_pair_tests"),
     ("integrate", "integrate_kick_with_wall_sums"),
+    ("rows", "row_sums"),
+    ("rows", "row_sums_final"),
+    ("rows", "row_profile"),
+    ("rows", "row_profile_final"),
+    ("rows", "row_raster"),
+    ("rows", "row_area"),
 ];
 
 /// Index of an entry point in [`ENTRY_POINTS`].
@@ -53,6 +60,12 @@ pub enum Kernel {
     ContactsClearTally,
     ContactsPairTests,
     IntegrateKickWithWallSums,
+    RowSums,
+    RowSumsFinal,
+    RowProfile,
+    RowProfileFinal,
+    RowRaster,
+    RowArea,
 }
 
 impl Kernel {
@@ -111,6 +124,9 @@ impl Kernels {
         // Each pass validated once: (name, text, naga module, analysis).
         type Validated = (Assembled, naga::Module, naga::valid::ModuleInfo);
         let mut passes: Vec<(&str, Validated)> = Vec::new();
+        let summary = ctx.summary();
+        let storage_uniforms =
+            quirks::recompiles_per_dispatch_with_uniforms(&summary.driver, &summary.driver_info);
         let mut kernels = Kernels {
             bindings: Vec::new(),
             layouts: Vec::new(),
@@ -121,6 +137,9 @@ impl Kernels {
                 let mut assembled = assemble_pass(pass)?;
                 if one_slot_chunk {
                     assembled = assembled.with_one_slot_chunk();
+                }
+                if storage_uniforms {
+                    assembled = assembled.with_storage_uniforms();
                 }
                 let (module, info) = assembled.validate()?;
                 passes.push((pass, (assembled, module, info)));
@@ -248,7 +267,9 @@ mod tests {
 
     #[test]
     fn workgroup_sizes_are_the_ones_the_dispatches_are_sized_for() {
-        use crate::backend::gpu::layout::{DIAG_THREADS, MONOMER_GROUP, PAIR_GROUP, WORK_GROUP};
+        use crate::backend::gpu::layout::{
+            DIAG_THREADS, MONOMER_GROUP, PAIR_GROUP, REDUCE_BLOCK, WORK_GROUP,
+        };
         let kernels = [
             Kernel::IntegrateKick,
             Kernel::IntegratePairs,
@@ -268,6 +289,12 @@ mod tests {
             Kernel::ContactsClearTally,
             Kernel::ContactsPairTests,
             Kernel::IntegrateKickWithWallSums,
+            Kernel::RowSums,
+            Kernel::RowSumsFinal,
+            Kernel::RowProfile,
+            Kernel::RowProfileFinal,
+            Kernel::RowRaster,
+            Kernel::RowArea,
         ];
         assert_eq!(kernels.len(), ENTRY_POINTS.len());
         for kernel in kernels {
@@ -285,7 +312,9 @@ mod tests {
                 Kernel::IntegratePairs | Kernel::Forces | Kernel::ContactsPairTests => PAIR_GROUP,
                 // One workgroup, whatever its size.
                 Kernel::ReduceWallsFinal => size,
-                Kernel::ReduceDiagnostics => DIAG_THREADS,
+                Kernel::ReduceDiagnostics | Kernel::RowSumsFinal => DIAG_THREADS,
+                // One workgroup per block of the fixed summation order.
+                Kernel::RowSums => REDUCE_BLOCK,
                 // ⌈n / MONOMER_GROUP⌉ groups (the host's `groups`, the drift's rebuild size).
                 _ => MONOMER_GROUP,
             };

@@ -153,6 +153,22 @@ pub const DIAG_STEPS: usize = 10;
 pub const DIAG_WALL_FORCE: usize = 16;
 pub const DIAG_WALL_FORCE_SUM: usize = 48;
 pub const DIAG_SIZE: usize = 80;
+/// Where the row kernels (shaders/passes/rows.wgsl) find their parameters and leave their
+/// results in `row_data`.
+pub const ROW_MASS: usize = 0;
+pub const ROW_INERTIA: usize = 1;
+pub const ROW_SPHERE: usize = 2;
+pub const ROW_SLAB_BOTTOM: usize = 3;
+pub const ROW_SLAB_THICKNESS: usize = 4;
+pub const ROW_SLABS: usize = 5;
+pub const ROW_X0: usize = 6;
+pub const ROW_Y0: usize = 7;
+pub const ROW_PIXEL: usize = 8;
+pub const ROW_NX: usize = 9;
+pub const ROW_NY: usize = 10;
+pub const ROW_RESULTS: usize = 16;
+pub use crate::state::rows::ROW_SUMS;
+pub const ROW_PARTIALS: usize = 24;
 /// Flags: index into the flags array, and what overflowed.
 pub const FLAG_PAIR_SLOTS: usize = 0;
 pub const FLAG_WALL_SLOTS: usize = 1;
@@ -290,6 +306,20 @@ mod tests {
             ("DIAG_WALL_FORCE", DIAG_WALL_FORCE),
             ("DIAG_WALL_FORCE_SUM", DIAG_WALL_FORCE_SUM),
             ("DIAG_SIZE", DIAG_SIZE),
+            ("ROW_MASS", ROW_MASS),
+            ("ROW_INERTIA", ROW_INERTIA),
+            ("ROW_SPHERE", ROW_SPHERE),
+            ("ROW_SLAB_BOTTOM", ROW_SLAB_BOTTOM),
+            ("ROW_SLAB_THICKNESS", ROW_SLAB_THICKNESS),
+            ("ROW_SLABS", ROW_SLABS),
+            ("ROW_X0", ROW_X0),
+            ("ROW_Y0", ROW_Y0),
+            ("ROW_PIXEL", ROW_PIXEL),
+            ("ROW_NX", ROW_NX),
+            ("ROW_NY", ROW_NY),
+            ("ROW_RESULTS", ROW_RESULTS),
+            ("ROW_SUMS", ROW_SUMS),
+            ("ROW_PARTIALS", ROW_PARTIALS),
             ("FLAG_PAIR_SLOTS", FLAG_PAIR_SLOTS),
             ("FLAG_WALL_SLOTS", FLAG_WALL_SLOTS),
             ("FLAG_BUCKET", FLAG_BUCKET),

@@ -9,6 +9,7 @@ pub mod context;
 pub mod engine;
 pub mod kernels;
 pub mod layout;
+pub mod quirks;
 pub mod shader;
 pub mod spirv;
 

@@ -231,6 +231,7 @@ const CPU_TWIN_FILES: &[&str] = &[
     "src/backend/cpu/forces.rs",
     "src/backend/cpu/walls.rs",
     "src/state/reduction.rs",
+    "src/state/rows.rs",
 ];
 
 /// Entry points with no CPU function of the same name, and the test (file, function) that

@@ -12,6 +12,7 @@
 mod error;
 mod profile;
 mod readback;
+mod rows;
 mod script;
 mod upload;
 
@@ -23,11 +24,13 @@ use super::kernels::{Kernel, Kernels};
 use super::layout::{self, GpuConstants, GpuDamping, GpuParams};
 use crate::engine::{Engine, EngineError, SKIN_RADII};
 use crate::model::ContactLaw;
+use crate::state::rows::{RowMeasures, RowRequest};
 use crate::state::{
     simulated_time, ContactTable, Dissipation, EnergyReport, Monomers, State, Wall,
 };
 use glam::DVec3;
 use std::borrow::Cow;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Steps per submission (and between reads of the small block) unless set otherwise.
 pub const DEFAULT_READBACK_EVERY: u64 = 100;
@@ -76,6 +79,10 @@ pub struct GpuEngine {
     totals: [f64; layout::TALLY_STRIDE],
     /// The monomers' sample ids, kept on the host: the device never reorders monomers.
     pub(super) ids: Vec<u32>,
+    /// Staging buffer of the row measures (grown with the profile they read).
+    row_readback: wgpu::Buffer,
+    /// Bytes read back from the device so far (every staging read counts).
+    read_back: AtomicU64,
 }
 
 fn groups(n: usize) -> u32 {
@@ -165,6 +172,7 @@ impl GpuEngine {
         let kernels = Kernels::new(&ctx, sizes.one_slot_chunk())?;
         let buffers = Buffers::new(&ctx.device, sizes);
         let bind_groups = kernels.bind_groups(&ctx.device, &buffers);
+        let row_readback = rows::row_readback_buffer(&ctx.device, 0);
         let mut engine = GpuEngine {
             ctx,
             law,
@@ -181,6 +189,8 @@ impl GpuEngine {
             diagnostics: Diagnostics::default(),
             totals: [0.0; layout::TALLY_STRIDE],
             ids: monomers.id.clone(),
+            row_readback,
+            read_back: AtomicU64::new(0),
         };
         engine.upload(monomers, table);
         Ok(engine)
@@ -254,9 +264,16 @@ impl GpuEngine {
         }
     }
 
-    /// Energy report of the current state (a full readback).
+    /// Energy report of the current state (a full readback; rows use
+    /// [`GpuEngine::row_measures`]).
     pub fn energy(&self) -> EnergyReport {
         self.snapshot().energy()
+    }
+
+    /// Bytes read back from the device since the engine was made: the small block of every
+    /// submission, the row measures and any full reads.
+    pub fn bytes_read_back(&self) -> u64 {
+        self.read_back.load(Ordering::Relaxed)
     }
 }
 
@@ -296,5 +313,8 @@ impl Engine for GpuEngine {
     }
     fn state(&self) -> Cow<'_, State> {
         Cow::Owned(self.snapshot())
+    }
+    fn row_measures(&mut self, request: &RowRequest) -> Result<RowMeasures, EngineError> {
+        Ok(GpuEngine::row_measures(self, request)?)
     }
 }

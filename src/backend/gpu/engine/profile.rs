@@ -1,6 +1,5 @@
 //! Per-pass timings: ordinary steps with a timestamp around every dispatch.
 
-use super::readback::map_read;
 use super::{GpuEngine, GpuError};
 use crate::backend::gpu::kernels::Kernel;
 
@@ -56,7 +55,7 @@ impl GpuEngine {
         encoder.resolve_query_set(&queries, 0..count, &resolved, 0);
         encoder.copy_buffer_to_buffer(&resolved, 0, &staging, 0, bytes);
         self.ctx.queue.submit([encoder.finish()]);
-        let ticks: Vec<u64> = bytemuck::pod_collect_to_vec(&map_read(&self.ctx, &staging, bytes)?);
+        let ticks: Vec<u64> = bytemuck::pod_collect_to_vec(&self.map_counted(&staging, bytes)?);
         let period = f64::from(self.ctx.queue.get_timestamp_period()) * 1e-9;
         let passes = Self::passes();
         let mut seconds = vec![0.0; passes.len()];

@@ -54,11 +54,7 @@ impl GpuEngine {
         // Counted from here on: the totals live on the host.
         encoder.clear_buffer(self.buffers.get("tally"), 0, None);
         self.ctx.queue.submit([encoder.finish()]);
-        let bytes = map_read(
-            &self.ctx,
-            &self.buffers.small_readback,
-            Buffers::small_bytes(),
-        )?;
+        let bytes = self.map_counted(&self.buffers.small_readback, Buffers::small_bytes())?;
         let flags: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes[..flag_bytes as usize]);
         let diag: Vec<f64> = bytemuck::pod_collect_to_vec(&bytes[diag_at as usize..]);
         for (total, since) in self.totals.iter_mut().zip(&diag[..layout::TALLY_STRIDE]) {
@@ -171,9 +167,21 @@ impl GpuEngine {
         self.ctx.queue.submit([encoder.finish()]);
         // Full-state reads come after a successful read of the small block; a device failing
         // in between is a narrow race, reported here with what failed.
-        let raw = map_read(&self.ctx, &staging, bytes.next_multiple_of(8))
+        let raw = self
+            .map_counted(&staging, bytes.next_multiple_of(8))
             .unwrap_or_else(|e| panic!("reading `{name}` back from the GPU: {e}"));
         bytemuck::pod_collect_to_vec(&raw[..bytes as usize])
+    }
+
+    /// [`map_read`], counted in [`GpuEngine::bytes_read_back`].
+    pub(super) fn map_counted(
+        &self,
+        buffer: &wgpu::Buffer,
+        bytes: u64,
+    ) -> Result<Vec<u8>, GpuError> {
+        self.read_back
+            .fetch_add(bytes, std::sync::atomic::Ordering::Relaxed);
+        map_read(&self.ctx, buffer, bytes)
     }
 
     /// A per-slot vector array, gathered from its chunk bindings.

@@ -48,6 +48,14 @@ impl Assembled {
         self
     }
 
+    /// The same pass with every `var<uniform>` declared as read-only storage (what
+    /// `backend::gpu::quirks` says some drivers need): the same data at the same offsets, so
+    /// the same bits, and only columns of error locations move.
+    pub fn with_storage_uniforms(mut self) -> Self {
+        self.source = self.source.replace("var<uniform> ", "var<storage, read> ");
+        self
+    }
+
     /// File and 1-based line of a 1-based line of the assembled text; `None` for marker lines.
     pub fn locate(&self, line: u32) -> Option<(&'static str, u32)> {
         self.segments

@@ -121,6 +121,7 @@ pub const PASSES: &[Source] = &[
     wgsl!("passes/forces.wgsl"),
     wgsl!("passes/walls.wgsl"),
     wgsl!("passes/reduce.wgsl"),
+    wgsl!("passes/rows.wgsl"),
 ];
 
 /// Probes: entry points that only tests run (the contact law on recorded inputs). A test checks

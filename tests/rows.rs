@@ -1,0 +1,58 @@
+//! The row measures' fixed summation order (src/state/rows.rs), held to the measurements it
+//! reorders: the projected area of `experiment::measure` (the same pixels, so the same bits),
+//! the slab profile of `sample::slab_profile` and the energy report (to rounding: the same
+//! terms added in another order).
+
+use dustdem::experiment::measure::projected_area;
+use dustdem::rng::Rng;
+use dustdem::sample::slab_profile;
+use dustdem::state::reduction::REDUCE_BLOCK;
+use dustdem::state::rows::{
+    row_area, row_profile, row_profile_final, row_raster, sphere_volume, Raster, Slabs,
+};
+use glam::DVec3;
+
+fn scattered(n: usize, seed: u64) -> Vec<DVec3> {
+    let mut rng = Rng::new(seed);
+    (0..n)
+        .map(|_| DVec3::new(rng.uniform(), rng.uniform(), rng.uniform()) * 20.0)
+        .collect()
+}
+
+#[test]
+fn the_raster_counts_the_projected_area_as_the_measurement_does() {
+    let r = 1.0;
+    for n in [1, 2, 63, 64, 65, 300] {
+        let p = scattered(n, n as u64);
+        let lo = p.iter().fold(p[0], |a, b| a.min(*b));
+        let hi = p.iter().fold(p[0], |a, b| a.max(*b));
+        let grid = Raster::new([lo.x, lo.y], [hi.x, hi.y], r);
+        let mut bits = vec![0u32; grid.words()];
+        row_raster(&p, r, &grid, &mut bits);
+        let area = row_area(&bits) as f64 * grid.pixel * grid.pixel;
+        assert_eq!(area, projected_area(&p, r), "{n} monomers");
+    }
+}
+
+#[test]
+fn the_profile_in_blocks_is_the_sequential_profile_to_rounding() {
+    let r = 1.0;
+    let p = scattered(300, 3);
+    let z: Vec<f64> = p.iter().map(|p| p.z).collect();
+    let slabs = Slabs::between(-1.0, 22.0, 2.0 * r);
+    let blocks = z.len().div_ceil(REDUCE_BLOCK);
+    let volumes = row_profile_final(&row_profile(&z, r, &slabs), blocks, slabs.count);
+    let ours = slabs.profile(&volumes, 400.0);
+    let theirs = slab_profile(z.iter().copied(), r, 400.0, -1.0, 22.0, 2.0 * r);
+    assert_eq!(ours.len(), theirs.len());
+    for (a, b) in ours.iter().zip(&theirs) {
+        assert_eq!(a.0, b.0);
+        assert!(
+            (a.1 - b.1).abs() <= 1e-13 * b.1.abs().max(1e-3),
+            "{a:?} {b:?}"
+        );
+    }
+    // Every monomer lies within the slabs: the volumes add up to N spheres.
+    let total: f64 = volumes.iter().sum();
+    assert!((total / (300.0 * sphere_volume(r)) - 1.0).abs() < 1e-12);
+}
