@@ -11,11 +11,13 @@ fn rotate_pointer(n: vec3<f64>, w: vec3<f64>) -> vec3<f64> {
     if t2 == 0.0lf {
         return n;
     }
-    // sin(θ)/θ and (1 − cos θ)/θ² as polynomials in θ².
-    let sinc = 1.0lf - t2 / 6.0lf
-        * (1.0lf - t2 / 20.0lf * (1.0lf - t2 / 42.0lf * (1.0lf - t2 / 72.0lf * (1.0lf - t2 / 110.0lf))));
-    let cosc = 0.5lf
-        * (1.0lf - t2 / 12.0lf * (1.0lf - t2 / 30.0lf * (1.0lf - t2 / 56.0lf * (1.0lf - t2 / 90.0lf))));
+    // sin(θ)/θ and (1 − cos θ)/θ² as polynomials in θ², with the reciprocals 1/6, 1/20, …
+    // written out (the f64 nearest to each), as in the twin.
+    let sinc = 1.0lf - t2 * 0.16666666666666666lf
+        * (1.0lf - t2 * 0.05lf * (1.0lf - t2 * 0.023809523809523808lf
+        * (1.0lf - t2 * 0.013888888888888888lf * (1.0lf - t2 * 0.00909090909090909lf))));
+    let cosc = 0.5lf * (1.0lf - t2 * 0.08333333333333333lf * (1.0lf - t2 * 0.03333333333333333lf
+        * (1.0lf - t2 * 0.017857142857142856lf * (1.0lf - t2 * 0.011111111111111112lf))));
     let cos_theta = 1.0lf - t2 * cosc;
     let rotated = n * cos_theta + vec_cross(w, n) * sinc + w * (vec_dot(w, n) * cosc);
     return vec_normalize(rotated);

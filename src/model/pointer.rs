@@ -12,11 +12,52 @@ pub fn rotate_pointer(n: DVec3, w: DVec3) -> DVec3 {
     if t2 == 0.0 {
         return n;
     }
-    // sin(θ)/θ and (1 − cos θ)/θ² as polynomials in θ².
+    // sin(θ)/θ and (1 − cos θ)/θ² as polynomials in θ², with the reciprocals 1/6, 1/20, …
+    // written out (the f64 nearest to each; a multiplication costs a fraction of a division).
     let sinc = 1.0
-        - t2 / 6.0 * (1.0 - t2 / 20.0 * (1.0 - t2 / 42.0 * (1.0 - t2 / 72.0 * (1.0 - t2 / 110.0))));
-    let cosc = 0.5 * (1.0 - t2 / 12.0 * (1.0 - t2 / 30.0 * (1.0 - t2 / 56.0 * (1.0 - t2 / 90.0))));
+        - t2 * 0.16666666666666666
+            * (1.0
+                - t2 * 0.05
+                    * (1.0
+                        - t2 * 0.023809523809523808
+                            * (1.0
+                                - t2 * 0.013888888888888888 * (1.0 - t2 * 0.00909090909090909))));
+    let cosc = 0.5
+        * (1.0
+            - t2 * 0.08333333333333333
+                * (1.0
+                    - t2 * 0.03333333333333333
+                        * (1.0 - t2 * 0.017857142857142856 * (1.0 - t2 * 0.011111111111111112))));
     let cos = 1.0 - t2 * cosc;
     let rotated = n * cos + w.cross(n) * sinc + w * (w.dot(n) * cosc);
     rotated.normalize()
+}
+
+#[cfg(test)]
+mod reciprocal_tests {
+    /// The literals in `rotate_pointer` (and its WGSL twin) are the correctly rounded 1/k.
+    #[test]
+    fn the_written_out_reciprocals_are_the_nearest_f64() {
+        let written = [
+            (6.0, 0.16666666666666666),
+            (20.0, 0.05),
+            (42.0, 0.023809523809523808),
+            (72.0, 0.013888888888888888),
+            (110.0, 0.00909090909090909),
+            (12.0, 0.08333333333333333),
+            (30.0, 0.03333333333333333),
+            (56.0, 0.017857142857142856),
+            (90.0, 0.011111111111111112),
+        ];
+        for (k, r) in written {
+            assert_eq!(1.0 / k, r, "1/{k}");
+        }
+        let source = include_str!("pointer.rs");
+        let shader = include_str!("../../shaders/model/pointer.wgsl");
+        for (_, r) in written {
+            let literal = format!("{r:?}");
+            assert!(source.contains(&format!("t2 * {literal}")), "{literal}");
+            assert!(shader.contains(&format!("t2 * {literal}lf")), "{literal} in WGSL");
+        }
+    }
 }
