@@ -22,7 +22,7 @@ fn jkr_contact_radius_ratio(d: f64) -> f64 {
     if d <= D_MIN {
         return X_MIN;
     }
-    var y = max(sqrt(sqrt(d + 2.0lf)), 1.0lf);
+    var y = newton_start(d);
     for (var i = 0u; i < 100u; i++) {
         let y3 = y * y * y;
         let g = 3.0lf * y3 * y - 2.0lf * y - d;
@@ -38,6 +38,20 @@ fn jkr_contact_radius_ratio(d: f64) -> f64 {
         }
     }
     return y * y;
+}
+
+// A start right of the root of 3y⁴ − 2y = d, close to it near d = 1 (the twin's comment has
+// the argument): the smaller of the quartic-root bound and the quadratic (d ≥ 1) or tangent
+// (d < 1) expansion about y = 1.
+fn newton_start(d: f64) -> f64 {
+    let far = max(sqrt(sqrt(d + 2.0lf)), 1.0lf);
+    var near: f64;
+    if d >= 1.0lf {
+        near = 1.0lf + (sqrt(100.0lf + 72.0lf * (d - 1.0lf)) - 10.0lf) / 36.0lf;
+    } else {
+        near = 1.0lf + (d - 1.0lf) / 10.0lf;
+    }
+    return min(far, near);
 }
 
 // Normal force F = 4F_c (x³ − x^(3/2)), positive when repulsive [dyn].
