@@ -106,9 +106,16 @@ mod newton_start_tests {
         while d < 1e4 {
             let y0 = newton_start(d);
             assert!(y0 > Y_MIN, "d = {d}: start {y0}");
-            assert!(g(y0) >= d - 1e-12 * d.abs().max(1.0), "d = {d}: g({y0}) = {}", g(y0));
+            assert!(
+                g(y0) >= d - 1e-12 * d.abs().max(1.0),
+                "d = {d}: g({y0}) = {}",
+                g(y0)
+            );
             let root = jkr_contact_radius_ratio(d).sqrt();
-            assert!(y0 >= root - 1e-15, "d = {d}: start {y0} left of the root {root}");
+            assert!(
+                y0 >= root - 1e-15,
+                "d = {d}: start {y0} left of the root {root}"
+            );
             if (0.5..=2.0).contains(&d) {
                 assert!(y0 - root <= 0.01 * root, "d = {d}: start {y0}, root {root}");
             }

@@ -57,7 +57,10 @@ mod reciprocal_tests {
         for (_, r) in written {
             let literal = format!("{r:?}");
             assert!(source.contains(&format!("t2 * {literal}")), "{literal}");
-            assert!(shader.contains(&format!("t2 * {literal}lf")), "{literal} in WGSL");
+            assert!(
+                shader.contains(&format!("t2 * {literal}lf")),
+                "{literal} in WGSL"
+            );
         }
     }
 }

@@ -25,9 +25,11 @@ pub const TALLY_STRIDE: usize = 8;
 /// monomers (`reduce_walls`), then the blocks in order (`reduce_walls_final`).
 pub fn reduce_walls(table: &ContactTable, slot_force: &[DVec3], wall_count: usize) -> Vec<DVec3> {
     let n = table.wall_count.len();
-    // Blocks in parallel (collected in block order), then the blocks in order.
+    // Blocks in parallel (collected in block order), then the blocks in order; at least 64
+    // blocks (4096 monomers) per thread, as smaller shares cost more to hand over than to sum.
     let partials: Vec<Vec<DVec3>> = (0..n.div_ceil(REDUCE_BLOCK))
         .into_par_iter()
+        .with_min_len(64)
         .map(|block| {
             let mut sums = vec![DVec3::ZERO; wall_count];
             for i in block * REDUCE_BLOCK..((block + 1) * REDUCE_BLOCK).min(n) {

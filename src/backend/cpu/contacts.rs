@@ -5,7 +5,7 @@
 //! chunks, each summing its dissipation in owner order); a row's events are the same whatever
 //! the thread count.
 
-use super::workspace::{sum_in_order, CHUNK};
+use super::workspace::{split_len, sum_in_order, CHUNK};
 use crate::engine::EngineError;
 use crate::model::{wall as wall_law, ContactLaw};
 use crate::state::interaction::{pair_step_energy, wall_step_energy};
@@ -35,6 +35,7 @@ pub fn contacts(
     tally: &mut Dissipation,
 ) -> Result<bool, EngineError> {
     let (ps, ws) = (table.pair_slots, table.wall_slots);
+    let n = monomers.len();
     let chunks: Vec<Result<(Dissipation, bool), EngineError>> = (
         table.pair.par_chunks_mut(CHUNK * ps),
         table.pair_count.par_chunks_mut(CHUNK),
@@ -42,6 +43,7 @@ pub fn contacts(
         table.wall_count.par_chunks_mut(CHUNK),
     )
         .into_par_iter()
+        .with_min_len(split_len(n, CHUNK))
         .enumerate()
         .map(|(chunk, (pairs, pair_counts, wall_rows, wall_counts))| {
             let mut dissipated = Dissipation::default();

@@ -7,7 +7,7 @@
 //! and slot, then its own slots), the order in which a single thread adding contact by contact
 //! would sum them. So the forces do not depend on the thread count and equal the device's bits.
 
-use super::workspace::{sum_in_order, Workspace, CHUNK};
+use super::workspace::{split_len, sum_in_order, Workspace, CHUNK};
 use crate::model::{rolling, sliding, twisting, ContactLaw};
 use crate::state::interaction::{pair_interaction, pair_step_energy};
 use crate::state::{ContactTable, Dissipation, Monomers, PairContact};
@@ -75,6 +75,7 @@ pub fn forces_per_slot(
         .pair
         .par_chunks_mut(CHUNK * slots)
         .zip(workspace.pair_result.par_chunks_mut(CHUNK * slots))
+        .with_min_len(split_len(n, CHUNK))
         .enumerate()
         .map(|(chunk, (rows, results))| {
             let mut tally = Dissipation::default();
@@ -121,7 +122,7 @@ pub fn gather_pair_forces(monomers: &mut Monomers, table: &ContactTable, workspa
         m.torque.par_iter_mut(),
     )
         .into_par_iter()
-        .with_min_len(CHUNK)
+        .with_min_len(split_len(counts.len(), 1))
         .enumerate()
         .for_each(|(i, (force, damping, torque))| {
             let (mut f, mut fd, mut t) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);

@@ -4,7 +4,7 @@
 //! Every loop is per monomer (or per owner row) with no sums across monomers, so it runs in
 //! parallel with the same bits for any thread count.
 
-use super::workspace::CHUNK;
+use super::workspace::split_len;
 use crate::model::pointer::rotate_pointer;
 use crate::model::twisting::twist_increment;
 use crate::state::{ContactTable, Monomers, Wall};
@@ -46,7 +46,7 @@ pub fn integrate_kick(
         table.wall_count.par_iter(),
     )
         .into_par_iter()
-        .with_min_len(CHUNK)
+        .with_min_len(split_len(force.len(), 1))
         .enumerate()
         .for_each(|(i, (velocity, spin, wall_row, count))| {
             *velocity += force[i] * (dt * inverse_mass * mass_scale[i]);
@@ -68,7 +68,7 @@ pub fn integrate_pairs(dt: f64, monomers: &Monomers, table: &mut ContactTable) {
     let ps = table.pair_slots;
     (table.pair.par_chunks_mut(ps), table.pair_count.par_iter())
         .into_par_iter()
-        .with_min_len(CHUNK)
+        .with_min_len(split_len(pos.len(), 1))
         .enumerate()
         .for_each(|(i, (row, count))| {
             for c in &mut row[..*count as usize] {
@@ -88,8 +88,8 @@ pub fn integrate_drift(dt: f64, monomers: &mut Monomers, walls: &mut [Wall]) {
     monomers
         .position
         .par_iter_mut()
-        .with_min_len(CHUNK)
         .zip(velocity.par_iter())
+        .with_min_len(split_len(velocity.len(), 1))
         .for_each(|(x, v)| *x += *v * dt);
     for w in walls.iter_mut() {
         w.point += w.velocity * dt;

@@ -27,7 +27,7 @@ use neighbours::NeighbourList;
 use rayon::prelude::*;
 use std::borrow::Cow;
 use std::ops::{Deref, DerefMut};
-use workspace::{Workspace, CHUNK};
+use workspace::{split_len, Workspace, CHUNK};
 
 /// The CPU backend: the state it steps, plus its own search structure (the neighbour list) and
 /// timings. It reads as its state (`engine.monomers`, `engine.step`, ...) through `Deref`.
@@ -209,6 +209,7 @@ impl CpuEngine {
             m.velocity.par_chunks(CHUNK),
         )
             .into_par_iter()
+            .with_min_len(split_len(m.len(), CHUNK))
             .map(|(before, after, velocity)| {
                 let mut work = 0.0;
                 for ((b, a), v) in before.iter().zip(after).zip(velocity) {
@@ -235,11 +236,17 @@ impl CpuEngine {
         Ok(())
     }
 
+    /// Advances `steps` steps. The loop runs on a worker thread of the current rayon pool (the
+    /// global one outside any pool): each pass's parallel work is then forked from inside the
+    /// pool, not handed over from another thread, which costs a wake-up per pass and, at small
+    /// N, more than the pass itself.
     pub fn run(&mut self, steps: u64) -> Result<(), EngineError> {
-        for _ in 0..steps {
-            self.step()?;
-        }
-        Ok(())
+        rayon::scope(|_| {
+            for _ in 0..steps {
+                self.step()?;
+            }
+            Ok(())
+        })
     }
 
     /// Run-time guard: finite positions and velocities, and no overlap above half a radius.
@@ -256,6 +263,7 @@ impl CpuEngine {
         let n = self.monomers.len();
         let found: Vec<Option<EngineError>> = (0..n.div_ceil(CHUNK))
             .into_par_iter()
+            .with_min_len(split_len(n, CHUNK))
             .map(|chunk| (chunk * CHUNK..((chunk + 1) * CHUNK).min(n)).find_map(|i| check(i).err()))
             .collect();
         match found.into_iter().flatten().next() {
@@ -327,12 +335,16 @@ impl Engine for CpuEngine {
     }
     fn run_mean_wall_force(&mut self, steps: u64) -> Result<Vec<DVec3>, EngineError> {
         let mut sum = vec![DVec3::ZERO; self.walls.len()];
-        for _ in 0..steps {
-            self.step()?;
-            for (s, f) in sum.iter_mut().zip(&self.wall_force) {
-                *s += *f;
+        // On a worker thread, as in `run`.
+        rayon::scope(|_| {
+            for _ in 0..steps {
+                self.step()?;
+                for (s, f) in sum.iter_mut().zip(&self.wall_force) {
+                    *s += *f;
+                }
             }
-        }
+            Ok::<(), EngineError>(())
+        })?;
         Ok(sum.into_iter().map(|s| s / steps.max(1) as f64).collect())
     }
     fn positions(&self) -> Cow<'_, [DVec3]> {

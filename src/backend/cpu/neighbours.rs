@@ -4,7 +4,7 @@
 //! Cells are keyed by integer coordinates and found by sorting, so the domain is unbounded
 //! (unidirectional runs spread sideways) and the memory is proportional to N.
 
-use super::workspace::CHUNK;
+use super::workspace::{split_len, CHUNK};
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -40,8 +40,8 @@ impl NeighbourList {
         let stale = self.reference.len() != position.len()
             || position
                 .par_iter()
-                .with_min_len(CHUNK)
                 .zip(&self.reference)
+                .with_min_len(split_len(position.len(), 1))
                 .any(|(p, r)| (*p - *r).length_squared() > limit);
         if stale {
             self.pairs = bin_pairs(position, self.contact_distance + self.skin);
@@ -87,6 +87,7 @@ pub fn bin_pairs(position: &[DVec3], cutoff: f64) -> Vec<(u32, u32)> {
     let cutoff2 = cutoff * cutoff;
     let lists: Vec<Vec<(u32, u32)>> = position
         .par_chunks(CHUNK)
+        .with_min_len(split_len(position.len(), CHUNK))
         .enumerate()
         .map(|(chunk, points)| {
             let mut pairs = Vec::new();

@@ -6,7 +6,7 @@
 //! order of [`reduce_walls`] (the twin of the device's reduction), so they do not depend on the
 //! thread count and equal the device's bits.
 
-use super::workspace::{sum_in_order, Workspace, CHUNK};
+use super::workspace::{split_len, sum_in_order, Workspace, CHUNK};
 use crate::model::{twisting, wall as wall_law, ContactLaw};
 use crate::state::interaction::{wall_interaction, wall_step_energy};
 use crate::state::reduction::reduce_walls;
@@ -78,6 +78,7 @@ pub fn wall_forces_per_slot(
         workspace.wall_torque.par_chunks_mut(CHUNK * slots),
     )
         .into_par_iter()
+        .with_min_len(split_len(monomers.len(), CHUNK))
         .enumerate()
         .map(|(chunk, (rows, forces, dampings, torques))| {
             let mut tally = Dissipation::default();
@@ -125,7 +126,7 @@ pub fn wall_forces(
         m.torque.par_iter_mut(),
     )
         .into_par_iter()
-        .with_min_len(CHUNK)
+        .with_min_len(split_len(counts.len(), 1))
         .enumerate()
         .for_each(|(i, (force, damping, torque))| {
             for s in i * slots..i * slots + counts[i] as usize {

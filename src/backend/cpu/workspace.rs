@@ -10,6 +10,21 @@ use glam::DVec3;
 /// number, not by the threads, so the bits are the same for any thread count.
 pub const CHUNK: usize = 512;
 
+/// Below this many monomers every pass runs on the thread that calls it: handing a pass of a
+/// few microseconds to another thread costs about as much as the pass (at N = 1000 two
+/// threads were no faster than one). The results do not depend on it.
+pub const SERIAL_BELOW: usize = 4096;
+
+/// Least items per parallel split of a pass over `n` monomers whose items hold `unit`
+/// monomers each: one chunk's worth, or everything where `n` is below [`SERIAL_BELOW`].
+pub fn split_len(n: usize, unit: usize) -> usize {
+    if n < SERIAL_BELOW {
+        usize::MAX
+    } else {
+        (CHUNK / unit).max(1)
+    }
+}
+
 /// Sums per-chunk tallies in chunk order.
 pub fn sum_in_order(chunks: &[Dissipation]) -> Dissipation {
     let mut total = Dissipation::default();
