@@ -2,6 +2,7 @@
 //! GPU engine's exact float mode: a compression with contact events, inelastic corrections and
 //! wall contacts, 2000 steps in pools of 1, 2 and 3 threads and on the device.
 
+use dustdem::backend::cpu::workspace::SERIAL_BELOW;
 use dustdem::backend::cpu::CpuEngine;
 use dustdem::backend::gpu::context::context_for_tests;
 use dustdem::backend::gpu::engine::GpuEngine;
@@ -14,11 +15,14 @@ use dustdem::state::State;
 
 const STEPS: u64 = 2000;
 
-/// 1500 monomers (three chunks of the CPU passes), a fast wall so that contacts form, break
-/// and slide within 2000 steps.
+/// 5000 monomers (ten chunks of the CPU passes, above the size below which the passes stay on
+/// one thread), a fast wall so that contacts form, break and slide within 2000 steps. Stored
+/// in the sample's order, where contact events spread over all chunks rather than the few
+/// under the wall, so that more per-chunk sums are non-zero (a thread-dependent sum of the
+/// damping work fails this test; checked by making it one).
 fn config() -> Config {
     Config::parse(
-        "[sample]\nmonomers = 1500\nseed = 11\n[experiment]\nkind = \"omni\"\nwall_speed_m_s = 10.0\n",
+        "[sample]\nmonomers = 5000\nseed = 11\n[integration]\nspace_filling_order = false\n[experiment]\nkind = \"omni\"\nwall_speed_m_s = 10.0\n",
         "thread test",
     )
     .unwrap()
@@ -44,6 +48,7 @@ fn encoded(state: &State) -> Vec<u8> {
 
 #[test]
 fn one_two_and_three_threads_give_the_same_bits() {
+    assert!(config().sample.monomers > SERIAL_BELOW);
     let one = run_in_pool(1);
     let t = one.tally;
     eprintln!(
