@@ -177,4 +177,8 @@ pub(super) struct ReportArgs {
     /// cluster logs).
     #[arg(long)]
     pub(super) log_lines: bool,
+    /// Threads of the CPU engine (1 to 1024; default: all cores). Any count gives the same
+    /// bits.
+    #[arg(long)]
+    pub(super) threads: Option<usize>,
 }

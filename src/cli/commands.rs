@@ -34,6 +34,7 @@ pub(super) fn run(
     force: bool,
     args: ReportArgs,
 ) -> Result<(), String> {
+    use_threads(args.threads)?;
     let config = load_config(config.as_deref())?;
     let out_dir = out.unwrap_or_else(|| config.output.dir.clone());
     drive(backend, &args, |options| {
@@ -46,7 +47,22 @@ pub(super) fn resume(
     backend: Backend,
     args: ReportArgs,
 ) -> Result<(), String> {
+    use_threads(args.threads)?;
     drive(backend, &args, |options| resume_job(&checkpoint, options))
+}
+
+/// Sizes the pool the CPU engine runs in (rayon's global pool) from `--threads`.
+fn use_threads(threads: Option<usize>) -> Result<(), String> {
+    let Some(t) = threads else {
+        return Ok(());
+    };
+    if !(1..=1024).contains(&t) {
+        return Err(format!("--threads {t}: out of range; allowed 1 to 1024"));
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(t)
+        .build_global()
+        .map_err(|e| format!("--threads {t}: {e}"))
 }
 
 /// Runs a job with the progress reporting, interrupt flag and notices of the command line,
