@@ -7,7 +7,7 @@
 //! and slot, then its own slots), the order in which a single thread adding contact by contact
 //! would sum them. So the forces do not depend on the thread count and equal the device's bits.
 
-use super::workspace::{split_len, sum_in_order, Workspace, CHUNK};
+use super::workspace::{each_accumulator, split_len, sum_in_order, Workspace, CHUNK};
 use crate::model::{rolling, sliding, twisting, ContactLaw};
 use crate::state::interaction::{pair_interaction, pair_step_energy};
 use crate::state::{ContactTable, Dissipation, Monomers, PairContact};
@@ -115,32 +115,23 @@ pub fn gather_pair_forces(monomers: &mut Monomers, table: &ContactTable, workspa
     let incoming = &workspace.incoming;
     let results = &workspace.pair_result;
     let counts = &table.pair_count;
-    let m = monomers;
-    (
-        m.force.par_iter_mut(),
-        m.damping_force.par_iter_mut(),
-        m.torque.par_iter_mut(),
-    )
-        .into_par_iter()
-        .with_min_len(split_len(counts.len(), 1))
-        .enumerate()
-        .for_each(|(i, (force, damping, torque))| {
-            let (mut f, mut fd, mut t) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
-            for &idx in incoming.of(i) {
-                let r = &results[idx as usize];
-                f -= r.force;
-                fd -= r.damping;
-                t += r.torque_partner;
-            }
-            for r in &results[i * slots..i * slots + counts[i] as usize] {
-                f += r.force;
-                fd += r.damping;
-                t += r.torque_owner;
-            }
-            *force = f;
-            *damping = fd;
-            *torque = t;
-        });
+    each_accumulator(monomers, |i, force, damping, torque| {
+        let (mut f, mut fd, mut t) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
+        for &idx in incoming.of(i) {
+            let r = &results[idx as usize];
+            f -= r.force;
+            fd -= r.damping;
+            t += r.torque_partner;
+        }
+        for r in &results[i * slots..i * slots + counts[i] as usize] {
+            f += r.force;
+            fd += r.damping;
+            t += r.torque_owner;
+        }
+        *force = f;
+        *damping = fd;
+        *torque = t;
+    });
 }
 
 /// The pass: corrections and per-slot forces, the partner index, the gather. Adds what the

@@ -6,7 +6,7 @@
 //! order of [`reduce_walls`] (the twin of the device's reduction), so they do not depend on the
 //! thread count and equal the device's bits.
 
-use super::workspace::{split_len, sum_in_order, Workspace, CHUNK};
+use super::workspace::{each_accumulator, split_len, sum_in_order, Workspace, CHUNK};
 use crate::model::{twisting, wall as wall_law, ContactLaw};
 use crate::state::interaction::{wall_interaction, wall_step_energy};
 use crate::state::reduction::reduce_walls;
@@ -119,22 +119,13 @@ pub fn wall_forces(
     let slots = table.wall_slots;
     let counts = &table.wall_count;
     let ws = &*workspace;
-    let m = monomers;
-    (
-        m.force.par_iter_mut(),
-        m.damping_force.par_iter_mut(),
-        m.torque.par_iter_mut(),
-    )
-        .into_par_iter()
-        .with_min_len(split_len(counts.len(), 1))
-        .enumerate()
-        .for_each(|(i, (force, damping, torque))| {
-            for s in i * slots..i * slots + counts[i] as usize {
-                *force += ws.wall_force[s];
-                *damping += ws.wall_damping[s];
-                *torque += ws.wall_torque[s];
-            }
-        });
+    each_accumulator(monomers, |i, force, damping, torque| {
+        for s in i * slots..i * slots + counts[i] as usize {
+            *force += ws.wall_force[s];
+            *damping += ws.wall_damping[s];
+            *torque += ws.wall_torque[s];
+        }
+    });
     wall_force.copy_from_slice(&reduce_walls(table, &ws.wall_force, walls.len()));
     wall_damping.copy_from_slice(&reduce_walls(table, &ws.wall_damping, walls.len()));
     tally.add(&dissipated);

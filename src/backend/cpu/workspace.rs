@@ -2,8 +2,9 @@
 //! fixed chunking that makes every sum independent of the thread count.
 
 use super::forces::PairResult;
-use crate::state::{ContactTable, Dissipation};
+use crate::state::{ContactTable, Dissipation, Monomers};
 use glam::DVec3;
+use rayon::prelude::*;
 
 /// Monomers per unit of parallel work. Sums that leave the monomer loop (dissipation, work) are
 /// taken per chunk in monomer order and then over chunks in order: the chunks are fixed by this
@@ -23,6 +24,24 @@ pub fn split_len(n: usize, unit: usize) -> usize {
     } else {
         (CHUNK / unit).max(1)
     }
+}
+
+/// Calls `add(i, force, damping force, torque)` on every monomer's accumulators, in parallel.
+pub fn each_accumulator(
+    monomers: &mut Monomers,
+    add: impl Fn(usize, &mut DVec3, &mut DVec3, &mut DVec3) + Send + Sync,
+) {
+    let n = monomers.len();
+    let m = monomers;
+    (
+        m.force.par_iter_mut(),
+        m.damping_force.par_iter_mut(),
+        m.torque.par_iter_mut(),
+    )
+        .into_par_iter()
+        .with_min_len(split_len(n, 1))
+        .enumerate()
+        .for_each(|(i, (force, damping, torque))| add(i, force, damping, torque));
 }
 
 /// Sums per-chunk tallies in chunk order.
