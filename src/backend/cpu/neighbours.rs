@@ -39,10 +39,14 @@ impl NeighbourList {
         let limit = 0.25 * self.skin * self.skin;
         let stale = self.reference.len() != position.len()
             || position
-                .par_iter()
-                .zip(&self.reference)
-                .with_min_len(split_len(position.len(), 1))
-                .any(|(p, r)| (*p - *r).length_squared() > limit);
+                .par_chunks(CHUNK)
+                .zip(self.reference.par_chunks(CHUNK))
+                .with_min_len(split_len(position.len(), CHUNK))
+                .any(|(p, r)| {
+                    p.iter()
+                        .zip(r)
+                        .any(|(p, r)| (*p - *r).length_squared() > limit)
+                });
         if stale {
             self.pairs = bin_pairs(position, self.contact_distance + self.skin);
             self.starts = owner_starts(&self.pairs, position.len());

@@ -26,7 +26,9 @@ pub fn split_len(n: usize, unit: usize) -> usize {
     }
 }
 
-/// Calls `add(i, force, damping force, torque)` on every monomer's accumulators, in parallel.
+/// Calls `add(i, force, damping force, torque)` on every monomer's accumulators, in parallel
+/// over chunks (a plain loop within each: per-element parallel iterators over several arrays
+/// compiled to much slower loops).
 pub fn each_accumulator(
     monomers: &mut Monomers,
     add: impl Fn(usize, &mut DVec3, &mut DVec3, &mut DVec3) + Send + Sync,
@@ -34,14 +36,23 @@ pub fn each_accumulator(
     let n = monomers.len();
     let m = monomers;
     (
-        m.force.par_iter_mut(),
-        m.damping_force.par_iter_mut(),
-        m.torque.par_iter_mut(),
+        m.force.par_chunks_mut(CHUNK),
+        m.damping_force.par_chunks_mut(CHUNK),
+        m.torque.par_chunks_mut(CHUNK),
     )
         .into_par_iter()
-        .with_min_len(split_len(n, 1))
+        .with_min_len(split_len(n, CHUNK))
         .enumerate()
-        .for_each(|(i, (force, damping, torque))| add(i, force, damping, torque));
+        .for_each(|(chunk, (force, damping, torque))| {
+            for (k, ((f, d), t)) in force
+                .iter_mut()
+                .zip(damping.iter_mut())
+                .zip(torque.iter_mut())
+                .enumerate()
+            {
+                add(chunk * CHUNK + k, f, d, t);
+            }
+        });
 }
 
 /// Sums per-chunk tallies in chunk order.
