@@ -190,3 +190,42 @@ fn tangential_forces_are_gradients_of_their_potentials() {
         );
     }
 }
+
+/// Sliding's correction lands on ζ_crit and moves the two pointers against each other, by
+/// equal amounts for equal
+/// radii: the relative displacement ζ shrinks to ζ_crit while the rolling displacement
+/// ξ ∝ n₁ + n₂ stays as it was, up to the second-order change that renormalising the pointers
+/// makes (|Δn|² ≲ (ζ/r)², below 1e-2 of |Δζ| for the spreads drawn here). Moving only one
+/// pointer (or the two by different amounts) changes ξ by half of Δζ.
+#[test]
+fn the_sliding_correction_lands_on_zeta_crit_and_leaves_rolling_alone() {
+    let law = undamped();
+    let k = law.pair;
+    let r = law.radius;
+    let mut rng = SplitMix64(8);
+    let mut checked = 0;
+    for _ in 0..2000 {
+        let spread = 0.02 * rng.unit();
+        let (n1, n2) = random_pair_beyond_limits(&mut rng, spread);
+        // A contact normal off the pointers' axis, so that they have a sliding displacement
+        // (along n₂ − n₁ itself they have none).
+        let nc = ((n2 - n1) + rng.unit_vector() * (4.0 * spread)).normalize();
+        if let Some((a, b)) = sliding::sliding_correction(n1, n2, nc, r, r, k.zeta_crit) {
+            let xi_change = (rolling::rolling_displacement(a, b, k.reduced_radius)
+                - rolling::rolling_displacement(n1, n2, k.reduced_radius))
+            .length();
+            let zeta_change = (sliding::sliding_displacement(a, b, nc, r, r)
+                - sliding::sliding_displacement(n1, n2, nc, r, r))
+            .length();
+            assert!(
+                xi_change <= 1e-2 * zeta_change,
+                "ξ moved {xi_change:e} while ζ moved {zeta_change:e}"
+            );
+            // And it lands on ζ_crit (the loop stops within 1e-13 of it).
+            let zeta = sliding::sliding_displacement(a, b, nc, r, r).length();
+            assert!((zeta / k.zeta_crit - 1.0).abs() < 1e-9, "sliding {zeta:e}");
+            checked += 1;
+        }
+    }
+    assert!(checked > 100, "{checked} corrections");
+}
