@@ -10,6 +10,7 @@ use dustdem::output::snapshot::{
     write_failed_vtu, write_lammps_dump, write_pvd, write_vtu, write_walls_vtp, Snapshot,
     SnapshotFormat, WallPlane,
 };
+use dustdem::rng::Rng;
 use std::fs;
 use std::path::{Path, PathBuf};
 use vtkio::model::{Attribute, DataSet, IOBuffer, Piece, VertexNumbers};
@@ -53,25 +54,6 @@ impl Drop for TempDir {
     }
 }
 
-/// SplitMix64: deterministic and dependency-free.
-struct Rng(u64);
-
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [-1, 1) with all 53 bits of mantissa in play, so that values need the full
-    /// 17 significant digits to round-trip.
-    fn symmetric(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    }
-}
-
 struct Data {
     positions: Vec<[f64; 3]>,
     velocities: Vec<[f64; 3]>,
@@ -83,12 +65,12 @@ struct Data {
 const RADIUS: f64 = 0.6e-4; // 0.6 µm in cm
 
 fn data(n: usize, seed: u64) -> Data {
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let mut v3 = |s: f64| {
         [
-            rng.symmetric() * s,
-            rng.symmetric() * s,
-            rng.symmetric() * s,
+            rng.uniform_range(-1.0, 1.0) * s,
+            rng.uniform_range(-1.0, 1.0) * s,
+            rng.uniform_range(-1.0, 1.0) * s,
         ]
     };
     let mut positions: Vec<[f64; 3]> = (0..n).map(|_| v3(20.0e-4)).collect();

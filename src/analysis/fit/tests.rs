@@ -1,6 +1,7 @@
 //! Tests of the Eq. 13 fit: known parameters recovered, errors, options and bad data.
 
 use super::*;
+use crate::rng::Rng;
 
 const GUETTLER: Eq13 = Eq13 {
     phi1: 0.15,
@@ -123,7 +124,7 @@ fn explicit_initial_guess_is_used() {
 #[test]
 fn correlation_matrix_is_symmetric_with_unit_diagonal() {
     let p = logspace(1e2, 1e6, 21);
-    let mut rng = SplitMix64(7);
+    let mut rng = Rng::new(7);
     let phi: Vec<f64> = p
         .iter()
         .map(|&p| GUETTLER.phi(p) + 0.005 * rng.normal())
@@ -142,29 +143,6 @@ fn correlation_matrix_is_symmetric_with_unit_diagonal() {
     assert!((r.chi2_per_dof - r.rss / r.dof as f64).abs() < 1e-18);
 }
 
-/// SplitMix64 (Steele, Lea & Flood 2014) with Box–Muller normals.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in (0, 1), never 0 so the logarithm below is finite.
-    fn uniform(&mut self) -> f64 {
-        ((self.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-    }
-
-    fn normal(&mut self) -> f64 {
-        let (u1, u2) = (self.uniform(), self.uniform());
-        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
-    }
-}
-
 struct Coverage {
     /// Empirical sd of the estimates over reported mean error, per parameter.
     sd_over_err: [f64; 4],
@@ -179,7 +157,7 @@ fn monte_carlo(with_sigma: bool, draws: usize, seed: u64) -> Coverage {
     let sigma = vec![NOISE; p.len()];
     let truth = GUETTLER;
     let want = [truth.phi1, truth.phi2, truth.p_m.log10(), truth.delta];
-    let mut rng = SplitMix64(seed);
+    let mut rng = Rng::new(seed);
     let (mut sum, mut sum2, mut err, mut hits) = ([0.0; 4], [0.0; 4], [0.0; 4], [0usize; 4]);
     let mut chi2 = 0.0;
     for _ in 0..draws {
