@@ -70,6 +70,8 @@ pub fn sum_in_order(chunks: &[Dissipation]) -> Dissipation {
 pub struct PartnerIndex {
     start: Vec<u32>,
     slots: Vec<u32>,
+    /// Fill positions while rebuilding (kept to reuse its allocation).
+    next: Vec<u32>,
 }
 
 impl PartnerIndex {
@@ -89,13 +91,14 @@ impl PartnerIndex {
         }
         self.slots.clear();
         self.slots.resize(self.start[n] as usize, 0);
-        let mut next: Vec<u32> = self.start[..n].to_vec();
+        self.next.clear();
+        self.next.extend_from_slice(&self.start[..n]);
         for i in 0..n {
             for (s, c) in table.pair[i * ps..i * ps + table.pair_count[i] as usize]
                 .iter()
                 .enumerate()
             {
-                let at = &mut next[c.partner as usize];
+                let at = &mut self.next[c.partner as usize];
                 self.slots[*at as usize] = (i * ps + s) as u32;
                 *at += 1;
             }
