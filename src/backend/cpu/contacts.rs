@@ -5,6 +5,7 @@
 //! chunks, each summing its dissipation in owner order); a row's events are the same whatever
 //! the thread count.
 
+use super::prefetch::prefetch_row_ahead;
 use super::workspace::{split_len, sum_in_order, CHUNK};
 use crate::engine::EngineError;
 use crate::model::{wall as wall_law, ContactLaw};
@@ -48,17 +49,14 @@ pub fn contacts(
         .map(|(chunk, (pairs, pair_counts, wall_rows, wall_counts))| {
             let mut dissipated = Dissipation::default();
             let mut changed = false;
-            for (k, (pair_count, wall_count)) in pair_counts
-                .iter_mut()
-                .zip(wall_counts.iter_mut())
-                .enumerate()
-            {
+            for k in 0..pair_counts.len() {
                 let i = chunk * CHUNK + k;
+                prefetch_row_ahead(pairs, ps, pair_counts, k);
                 let mut row = Row {
                     pair: &mut pairs[k * ps..(k + 1) * ps],
-                    pair_count,
+                    pair_count: &mut pair_counts[k],
                     wall: &mut wall_rows[k * ws..(k + 1) * ws],
-                    wall_count,
+                    wall_count: &mut wall_counts[k],
                 };
                 let mine = &candidates[starts[i] as usize..starts[i + 1] as usize];
                 changed |=

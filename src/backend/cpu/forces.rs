@@ -7,6 +7,7 @@
 //! and slot, then its own slots), the order in which a single thread adding contact by contact
 //! would sum them. So the forces do not depend on the thread count and equal the device's bits.
 
+use super::prefetch::{prefetch, prefetch_row_ahead, AHEAD};
 use super::workspace::{each_accumulator, split_len, sum_in_order, Workspace, CHUNK};
 use crate::model::{rolling, sliding, twisting, ContactLaw};
 use crate::state::interaction::{pair_interaction, pair_step_energy};
@@ -80,13 +81,14 @@ pub fn forces_per_slot(
         .map(|(chunk, (rows, results))| {
             let mut tally = Dissipation::default();
             let first = chunk * CHUNK;
-            for (k, (row, out)) in rows
-                .chunks_mut(slots)
-                .zip(results.chunks_mut(slots))
-                .enumerate()
-            {
+            let counts = &counts[first..(first + CHUNK).min(n)];
+            for (k, &count) in counts.iter().enumerate() {
                 let i = first + k;
-                for (c, result) in row.iter_mut().zip(out.iter_mut()).take(counts[i] as usize) {
+                prefetch_row_ahead(rows, slots, counts, k);
+                prefetch_row_ahead(results, slots, counts, k);
+                let row = &mut rows[k * slots..(k + 1) * slots];
+                let out = &mut results[k * slots..(k + 1) * slots];
+                for (c, result) in row.iter_mut().zip(out.iter_mut()).take(count as usize) {
                     apply_inelastic_limits(law, monomers, dt, i, c, &mut tally);
                     let j = c.partner as usize;
                     let (x1, x2) = (monomers.position[i], monomers.position[j]);
@@ -115,7 +117,15 @@ pub fn gather_pair_forces(monomers: &mut Monomers, table: &ContactTable, workspa
     let incoming = &workspace.incoming;
     let results = &workspace.pair_result;
     let counts = &table.pair_count;
+    let n = counts.len();
     each_accumulator(monomers, |i, force, damping, torque| {
+        let ahead = i + AHEAD;
+        if ahead < n {
+            for &idx in incoming.of(ahead) {
+                prefetch(std::slice::from_ref(&results[idx as usize]));
+            }
+            prefetch(&results[ahead * slots..ahead * slots + counts[ahead] as usize]);
+        }
         let (mut f, mut fd, mut t) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
         for &idx in incoming.of(i) {
             let r = &results[idx as usize];

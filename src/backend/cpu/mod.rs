@@ -16,6 +16,7 @@ pub mod contacts;
 pub mod forces;
 pub mod integrate;
 pub mod neighbours;
+mod prefetch;
 pub mod walls;
 pub mod workspace;
 
