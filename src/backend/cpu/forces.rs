@@ -7,7 +7,7 @@
 //! and slot, then its own slots), the order in which a single thread adding contact by contact
 //! would sum them. So the forces do not depend on the thread count and equal the device's bits.
 
-use super::prefetch::{prefetch, prefetch_row_ahead, AHEAD};
+use super::prefetch::{prefetch, prefetch_one, prefetch_partners_ahead, prefetch_row_ahead, AHEAD};
 use super::workspace::{each_accumulator, split_len, sum_in_order, Workspace, CHUNK};
 use crate::model::{rolling, sliding, twisting, ContactLaw};
 use crate::state::interaction::{pair_interaction, pair_step_energy};
@@ -86,6 +86,10 @@ pub fn forces_per_slot(
                 let i = first + k;
                 prefetch_row_ahead(rows, slots, counts, k);
                 prefetch_row_ahead(results, slots, counts, k);
+                prefetch_partners_ahead(rows, slots, counts, k, |j| {
+                    prefetch_one(&monomers.position[j]);
+                    prefetch_one(&monomers.velocity[j]);
+                });
                 let row = &mut rows[k * slots..(k + 1) * slots];
                 let out = &mut results[k * slots..(k + 1) * slots];
                 for (c, result) in row.iter_mut().zip(out.iter_mut()).take(count as usize) {

@@ -4,7 +4,7 @@
 //! Every loop is per monomer (or per owner row) with no sums across monomers, so it runs in
 //! parallel with the same bits for any thread count.
 
-use super::prefetch::prefetch_row_ahead;
+use super::prefetch::{prefetch_one, prefetch_partners_ahead, prefetch_row_ahead};
 use super::workspace::{split_len, CHUNK};
 use crate::model::pointer::rotate_pointer;
 use crate::model::twisting::twist_increment;
@@ -84,6 +84,11 @@ pub fn integrate_pairs(dt: f64, monomers: &Monomers, table: &mut ContactTable) {
             for (k, &count) in counts.iter().enumerate() {
                 let i = first + k;
                 prefetch_row_ahead(rows, ps, counts, k);
+                prefetch_partners_ahead(rows, ps, counts, k, |j| {
+                    prefetch_one(&pos[j]);
+                    prefetch_one(&vel[j]);
+                    prefetch_one(&omega[j]);
+                });
                 for c in &mut rows[k * ps..k * ps + count as usize] {
                     let j = c.partner as usize;
                     // Contact normal at mid-step, x(n+½) = x(n) + v(n+½) dt/2.

@@ -7,10 +7,16 @@
 //! (DESIGN.md, "CPU engine: prefetching contact rows"). A hint changes no value, only when a
 //! line arrives, so results are bit-identical with or without it.
 
+/// Owners ahead of the current one whose partners' monomer data are requested: half of
+/// [`AHEAD`], so their rows (requested `AHEAD / 2` owners ago) have usually arrived.
+pub const PARTNERS_AHEAD: usize = AHEAD / 2;
+
 /// Owners ahead of the current one whose rows are requested: far enough for a memory round
 /// trip (about 100 ns) to finish while the owners between are processed (tens of ns each),
 /// near enough for the lines to stay in the first-level cache.
 pub const AHEAD: usize = 8;
+
+use crate::state::PairContact;
 
 const LINE: usize = 64;
 
@@ -47,4 +53,29 @@ pub fn prefetch_row_ahead<T>(rows: &[T], slots: usize, counts: &[u32], k: usize)
         let start = ahead * slots;
         prefetch(&rows[start..start + count as usize]);
     }
+}
+
+/// Calls `request(partner)` for each contact of owner `k + PARTNERS_AHEAD` of a chunk, to
+/// prefetch the partner's monomer data: at 10⁵ monomers those arrays and the table together
+/// outgrow the last-level cache, and partners are scattered.
+#[inline(always)]
+pub fn prefetch_partners_ahead(
+    rows: &[PairContact],
+    slots: usize,
+    counts: &[u32],
+    k: usize,
+    request: impl Fn(usize),
+) {
+    let ahead = k + PARTNERS_AHEAD;
+    if let Some(&count) = counts.get(ahead) {
+        for c in &rows[ahead * slots..ahead * slots + count as usize] {
+            request(c.partner as usize);
+        }
+    }
+}
+
+/// Prefetches the line holding `item`.
+#[inline(always)]
+pub fn prefetch_one<T>(item: &T) {
+    prefetch(std::slice::from_ref(item));
 }
