@@ -18,32 +18,54 @@ pub struct SpeedFit {
     pub free: Result<FitResult, FitError>,
 }
 
-/// Fits Eq. 13 to the points (P [Pa], φ) of `curve` (pressures ≤ 0 are left out) with φ₁, φ₂
-/// held at `phi1`, `phi2` and with all four free. `sigma`, when given, holds one-sigma errors
-/// of φ point by point (for all points of `curve`, as for a seed average's standard errors);
-/// without it the residual scatter scales the errors.
-pub fn fit_speed(curve: &[(f64, f64)], sigma: Option<&[f64]>, phi1: f64, phi2: f64) -> SpeedFit {
+/// The points of `curve` with P > 0 and their σ (given for all points of `curve`, as for a
+/// seed average's standard errors).
+fn usable(curve: &[(f64, f64)], sigma: Option<&[f64]>) -> (Vec<f64>, Vec<f64>, Option<Vec<f64>>) {
     let keep: Vec<usize> = (0..curve.len()).filter(|&i| curve[i].0 > 0.0).collect();
-    let p: Vec<f64> = keep.iter().map(|&i| curve[i].0).collect();
-    let phi: Vec<f64> = keep.iter().map(|&i| curve[i].1).collect();
-    let s: Option<Vec<f64>> = sigma.map(|s| {
+    let p = keep.iter().map(|&i| curve[i].0).collect();
+    let phi = keep.iter().map(|&i| curve[i].1).collect();
+    // A σ of the wrong length is passed on whole, for fit_eq13 to report.
+    let s = sigma.map(|s| {
         if s.len() == curve.len() {
             keep.iter().map(|&i| s[i]).collect()
         } else {
             s.to_vec()
         }
     });
-    let fit = |fix: Option<(f64, f64)>| {
-        let opt = FitOptions {
-            fix_phi1: fix.map(|f| f.0),
-            fix_phi2: fix.map(|f| f.1),
-            ..FitOptions::default()
-        };
-        fit_eq13(&p, &phi, s.as_deref(), &opt)
+    (p, phi, s)
+}
+
+fn fit_points(
+    curve: &[(f64, f64)],
+    sigma: Option<&[f64]>,
+    fix: Option<(f64, f64)>,
+) -> Result<FitResult, FitError> {
+    let (p, phi, s) = usable(curve, sigma);
+    let opt = FitOptions {
+        fix_phi1: fix.map(|f| f.0),
+        fix_phi2: fix.map(|f| f.1),
+        ..FitOptions::default()
     };
+    fit_eq13(&p, &phi, s.as_deref(), &opt)
+}
+
+/// Eq. 13 with φ₁, φ₂ held at `phi1`, `phi2`, fitted to the points (P [Pa], φ) of `curve`
+/// (pressures ≤ 0 are left out). `sigma`, when given, holds one-sigma errors of φ for every
+/// point of `curve`; without it the residual scatter scales the errors.
+pub fn fit_fixed(
+    curve: &[(f64, f64)],
+    sigma: Option<&[f64]>,
+    phi1: f64,
+    phi2: f64,
+) -> Result<FitResult, FitError> {
+    fit_points(curve, sigma, Some((phi1, phi2)))
+}
+
+/// Both fits of one speed: [`fit_fixed`] and all four parameters free.
+pub fn fit_speed(curve: &[(f64, f64)], sigma: Option<&[f64]>, phi1: f64, phi2: f64) -> SpeedFit {
     SpeedFit {
-        fixed: fit(Some((phi1, phi2))),
-        free: fit(None),
+        fixed: fit_fixed(curve, sigma, phi1, phi2),
+        free: fit_points(curve, sigma, None),
     }
 }
 
@@ -108,9 +130,7 @@ mod tests {
                 .iter()
                 .map(|&(p, phi)| (p, phi + NOISE * rng.normal()))
                 .collect();
-            let r = fit_speed(&noisy, Some(&sigma), GUETTLER_PHI1, GUETTLER_PHI2)
-                .fixed
-                .unwrap();
+            let r = fit_fixed(&noisy, Some(&sigma), GUETTLER_PHI1, GUETTLER_PHI2).unwrap();
             let got = [r.params.p_m.log10(), r.params.delta];
             let e = [r.std_err_log10_pm, r.std_err.delta];
             for j in 0..2 {
