@@ -10,11 +10,12 @@
 //! log₁₀p_m is close to Gaussian. The error of p_m itself follows by the delta
 //! method and is only meaningful while it is small compared with p_m.
 
-mod linalg;
+pub(in crate::analysis) mod linalg;
+pub(in crate::analysis) mod lm;
 #[cfg(test)]
 mod tests;
 
-use linalg::{invert_spd, solve_spd, Mat};
+use lm::Problem;
 use std::error::Error;
 use std::fmt;
 
@@ -184,9 +185,6 @@ const LOG_PM: usize = 2;
 const DELTA: usize = 3;
 const NAMES: [&str; 4] = ["phi1", "phi2", "log10_p_m", "delta"];
 
-/// Relative step below which the iteration counts as converged.
-const XTOL: f64 = 1e-10;
-
 /// Fits Eq. 13 to filling factors `phi` measured at pressures `p` [Pa],
 /// optionally weighted by one-sigma uncertainties `sigma` of φ.
 ///
@@ -246,10 +244,13 @@ pub fn fit_eq13(
     }
 
     let x: Vec<f64> = p.iter().map(|v| v.log10()).collect();
-    let data = Data {
+    let data = Problem {
         x: &x,
         y: phi,
         w: &w,
+        model: &model,
+        // (Δ, φ₁, φ₂) and (−Δ, φ₂, φ₁) describe the same curve: Δ is kept positive.
+        admissible: &|t| t[DELTA] > 0.0,
     };
     let mut theta = match opt.initial {
         Some(e) => [e.phi1, e.phi2, e.p_m.log10(), e.delta],
@@ -262,17 +263,11 @@ pub fn fit_eq13(
         theta[PHI2] = v;
     }
 
-    let (theta, iterations, converged) =
-        levenberg_marquardt(&data, theta, &idx, opt.max_iterations);
+    let (theta, iterations, converged) = data.levenberg_marquardt(theta, &idx, opt.max_iterations);
 
-    let (a, _) = normal_equations(&data, &theta, &idx);
-    let cov = invert_spd(&a, k).ok_or(FitError::Singular)?;
+    let cov = data.covariance(&theta, &idx).ok_or(FitError::Singular)?;
     let chi2 = data.chi2(&theta);
-    let rss: f64 = x
-        .iter()
-        .zip(phi)
-        .map(|(&xi, &yi)| (yi - model(&theta, xi).0).powi(2))
-        .sum();
+    let rss = data.rss(&theta);
     let dof = n - k;
     let chi2_per_dof = if sigma.is_some() { chi2 } else { rss } / dof as f64;
     let scale = if sigma.is_some() { 1.0 } else { chi2_per_dof };
@@ -361,99 +356,12 @@ fn model(theta: &[f64; 4], x: f64) -> (f64, [f64; 4]) {
     )
 }
 
-struct Data<'a> {
-    x: &'a [f64],
-    y: &'a [f64],
-    w: &'a [f64],
-}
-
-impl Data<'_> {
-    fn chi2(&self, theta: &[f64; 4]) -> f64 {
-        self.x
-            .iter()
-            .zip(self.y)
-            .zip(self.w)
-            .map(|((&x, &y), &w)| w * (y - model(theta, x).0).powi(2))
-            .sum()
-    }
-}
-
-/// JᵀWJ and JᵀWr over the free parameters `idx`.
-fn normal_equations(d: &Data, theta: &[f64; 4], idx: &[usize]) -> (Mat, [f64; 4]) {
-    let mut a = [[0.0; 4]; 4];
-    let mut g = [0.0; 4];
-    for ((&x, &y), &w) in d.x.iter().zip(d.y).zip(d.w) {
-        let (f, grad) = model(theta, x);
-        let r = y - f;
-        for (i, &pi) in idx.iter().enumerate() {
-            g[i] += w * grad[pi] * r;
-            for (j, &pj) in idx.iter().enumerate() {
-                a[i][j] += w * grad[pi] * grad[pj];
-            }
-        }
-    }
-    (a, g)
-}
-
-/// Marquardt's damped Gauss–Newton iteration; Δ is kept positive because
-/// (Δ, φ₁, φ₂) and (−Δ, φ₂, φ₁) describe the same curve.
-fn levenberg_marquardt(
-    d: &Data,
-    mut theta: [f64; 4],
-    idx: &[usize],
-    max_iterations: usize,
-) -> ([f64; 4], usize, bool) {
-    let k = idx.len();
-    let mut chi2 = d.chi2(&theta);
-    let mut lambda = 1e-3;
-    for iteration in 1..=max_iterations {
-        let (a, g) = normal_equations(d, &theta, idx);
-        let max_diag = (0..k).map(|i| a[i][i]).fold(0.0, f64::max);
-        let mut accepted = None;
-        while lambda <= 1e16 {
-            let mut damped = a;
-            for (i, row) in damped.iter_mut().enumerate().take(k) {
-                row[i] += lambda * a[i][i].max(1e-12 * max_diag).max(f64::MIN_POSITIVE);
-            }
-            if let Some(step) = solve_spd(&damped, &g, k) {
-                let mut trial = theta;
-                for (s, &j) in step.iter().zip(idx) {
-                    trial[j] += s;
-                }
-                if trial[DELTA] > 0.0 && trial.iter().all(|v| v.is_finite()) {
-                    let c = d.chi2(&trial);
-                    if c <= chi2 {
-                        accepted = Some((trial, c, step));
-                        break;
-                    }
-                }
-            }
-            lambda *= 10.0;
-        }
-        // Not even a tiny gradient step lowers χ²: stationary to rounding.
-        let Some((trial, c, step)) = accepted else {
-            return (theta, iteration, true);
-        };
-        lambda = (lambda * 0.1).max(1e-12);
-        let small_step = step
-            .iter()
-            .zip(idx)
-            .all(|(s, &j)| s.abs() <= XTOL * (theta[j].abs() + XTOL));
-        theta = trial;
-        chi2 = c;
-        if small_step || chi2 == 0.0 {
-            return (theta, iteration, true);
-        }
-    }
-    (theta, max_iterations, false)
-}
-
 /// Starting point from a grid in (log₁₀p_m, Δ). For given (p_m, Δ) the model
 /// is linear in φ₁ and φ₂, so each grid node gets its best plateaus by linear
 /// least squares; this finds the basin of the minimum without any knowledge
 /// of the data's scale. The midpoint-crossing estimate is kept as a candidate
 /// for data that constrain the plateaus too weakly for the grid.
-fn initial_guess(d: &Data, fix1: Option<f64>, fix2: Option<f64>) -> [f64; 4] {
+fn initial_guess(d: &Problem, fix1: Option<f64>, fix2: Option<f64>) -> [f64; 4] {
     let (xmin, xmax) =
         d.x.iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
@@ -485,7 +393,7 @@ fn initial_guess(d: &Data, fix1: Option<f64>, fix2: Option<f64>) -> [f64; 4] {
 /// Weighted linear least squares for the free plateaus at fixed (p_m, Δ),
 /// with φ = φ₁·s + φ₂·(1 − s).
 fn best_plateaus(
-    d: &Data,
+    d: &Problem,
     log_pm: f64,
     delta: f64,
     fix1: Option<f64>,
@@ -519,7 +427,7 @@ fn best_plateaus(
 }
 
 /// Plateaus at the data extremes, p_m where φ crosses their mean, Δ = 0.5.
-fn midpoint_guess(d: &Data, fix1: Option<f64>, fix2: Option<f64>) -> [f64; 4] {
+fn midpoint_guess(d: &Problem, fix1: Option<f64>, fix2: Option<f64>) -> [f64; 4] {
     let mut pts: Vec<(f64, f64)> = d.x.iter().copied().zip(d.y.iter().copied()).collect();
     pts.sort_by(|a, b| a.0.total_cmp(&b.0));
     let ymin = pts.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);

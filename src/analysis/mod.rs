@@ -1,2 +1,8 @@
 //! Post-processing of simulation output.
+pub mod average;
 pub mod fit;
+pub mod front;
+pub mod per_speed;
+pub mod regimes;
+pub mod run_files;
+pub mod speed_laws;

@@ -2,7 +2,7 @@
 //! equations, solves and the inverse that gives the covariance.
 
 /// A symmetric 4×4 matrix; the fit uses its leading k×k block (k free parameters).
-pub(super) type Mat = [[f64; 4]; 4];
+pub(in crate::analysis) type Mat = [[f64; 4]; 4];
 
 /// Cholesky factor of the leading k×k block; `None` if it is not positive
 /// definite or a parameter is (nearly) a linear combination of the others.
@@ -36,12 +36,12 @@ fn solve_with(l: &Mat, b: &[f64; 4], k: usize) -> [f64; 4] {
     x
 }
 
-pub(super) fn solve_spd(a: &Mat, b: &[f64; 4], k: usize) -> Option<Vec<f64>> {
+pub(in crate::analysis) fn solve_spd(a: &Mat, b: &[f64; 4], k: usize) -> Option<Vec<f64>> {
     let l = cholesky(a, k)?;
     Some(solve_with(&l, b, k)[..k].to_vec())
 }
 
-pub(super) fn invert_spd(a: &Mat, k: usize) -> Option<Mat> {
+pub(in crate::analysis) fn invert_spd(a: &Mat, k: usize) -> Option<Mat> {
     let l = cholesky(a, k)?;
     let mut inv = [[0.0; 4]; 4];
     for c in 0..k {

@@ -1,0 +1,131 @@
+//! Tests of the regime finder on curves built piecewise with known breakpoints.
+
+use super::*;
+use crate::analysis::fit::Eq13;
+use crate::rng::Rng;
+
+const ROWS: usize = 300;
+/// First plateau row and first steep row of the synthetic curve.
+const K1: usize = 12;
+const K2: usize = 255;
+
+/// φ of a box compressed at 7 m/s from 60 µm, rows 20 ns apart: φ₀·h₀/(h₀ − v t).
+fn phi(i: usize) -> f64 {
+    let h = 60e-6 - 7.0 * 20e-9 * i as f64;
+    0.15 * 60e-6 / h
+}
+
+/// log₁₀P: a rise of 0.18 dex per row, a plateau rising 0.15 dex in all, a rise of 0.06 dex
+/// per row; continuous, with the corners half-way between rows K1 − 1 and K1 and between
+/// K2 − 1 and K2, so that no row lies on two pieces.
+fn log_p(i: usize) -> f64 {
+    let x = i as f64;
+    let (c1, c2) = (K1 as f64 - 0.5, K2 as f64 - 0.5);
+    let plateau = |x: f64| 3.7 + 0.15 * (x - c1) / (c2 - c1);
+    if x < c1 {
+        3.7 - 0.18 * (c1 - x)
+    } else if x < c2 {
+        plateau(x)
+    } else {
+        plateau(c2) + 0.06 * (x - c2)
+    }
+}
+
+fn curve(noise: f64, rng: &mut Rng) -> Vec<(f64, f64)> {
+    (0..ROWS)
+        .map(|i| (10f64.powf(log_p(i) + noise * rng.normal()), phi(i)))
+        .collect()
+}
+
+#[test]
+fn exact_piecewise_curve_gives_its_breakpoints() {
+    let c = curve(0.0, &mut Rng::new(0));
+    let r = find_regimes(&c, &RegimeOptions::default()).unwrap();
+    assert_eq!((r.plateau_start, r.steep_start), (K1, K2), "{r:?}");
+    assert!(
+        (r.critical_pressure.log10() - log_p(K1)).abs() < 1e-9,
+        "{r:?}"
+    );
+    assert!(
+        (r.plateau_end_pressure.log10() - log_p(K2 - 1)).abs() < 1e-9,
+        "{r:?}"
+    );
+    assert_eq!(r.phi_at_plateau_start, phi(K1));
+    assert_eq!(r.phi_at_steep_start, phi(K2));
+    assert!((r.phi_rise_before_critical - (phi(K1) - phi(0))).abs() < 1e-15);
+    assert!(r.three_regimes, "{r:?}");
+    // The plateau's median pressure lies mid-way up its 0.15 dex.
+    assert!((r.plateau_pressure.log10() - 3.775).abs() < 0.002, "{r:?}");
+
+    // Rows without a pressure (the row before the first step, no wall contact yet) are
+    // skipped and the indices still point into the curve as given.
+    let mut padded = vec![(f64::NAN, 0.15), (0.0, 0.15)];
+    padded.extend(&c);
+    let r = find_regimes(&padded, &RegimeOptions::default()).unwrap();
+    assert_eq!((r.plateau_start, r.steep_start), (K1 + 2, K2 + 2));
+}
+
+#[test]
+fn noisy_curves_give_their_breakpoints_within_one_row() {
+    // 0.02 dex of noise; a row moved across a corner costs its slope change squared
+    // (0.18² and 0.06² against 4·10⁻⁴ per row of noise), so the corners stay sharp.
+    let mut rng = Rng::new(31);
+    for draw in 0..20 {
+        let c = curve(0.02, &mut rng);
+        let r = find_regimes(&c, &RegimeOptions::default()).unwrap();
+        assert!(r.plateau_start.abs_diff(K1) <= 1, "draw {draw}: {r:?}");
+        assert!(r.steep_start.abs_diff(K2) <= 1, "draw {draw}: {r:?}");
+        assert!(
+            (r.critical_pressure.log10() - 3.7).abs() < 0.03,
+            "draw {draw}: {r:?}"
+        );
+        assert!(r.three_regimes, "draw {draw}: {r:?}");
+    }
+}
+
+#[test]
+fn smooth_quasi_static_curve_is_not_three_regimes() {
+    // The Güttler curve followed at the same φ(t): log₁₀P rises smoothly, no plateau.
+    let e = Eq13 {
+        phi1: 0.15,
+        phi2: 0.58,
+        p_m: 16667.0,
+        delta: 0.562,
+    };
+    let c: Vec<(f64, f64)> = (1..ROWS)
+        .map(|i| (e.pressure_at(phi(i)).unwrap(), phi(i)))
+        .collect();
+    let r = find_regimes(&c, &RegimeOptions::default()).unwrap();
+    println!("{r:?}");
+    assert!(!r.three_regimes, "{r:?}");
+    // Rejected by the plateau's slope alone, whatever φ does before it.
+    let lax = RegimeOptions {
+        phi_tol: 1.0,
+        ..RegimeOptions::default()
+    };
+    assert!(!find_regimes(&c, &lax).unwrap().three_regimes);
+
+    // A pressure jump at constant φ is compaction-free; with φ rising fast through the
+    // first piece instead, regime (i) does not hold.
+    let fast: Vec<(f64, f64)> = (0..ROWS)
+        .map(|i| {
+            (
+                10f64.powf(log_p(i)),
+                phi(i) + if i < K1 { 0.003 * i as f64 } else { 0.036 },
+            )
+        })
+        .collect();
+    let r = find_regimes(&fast, &RegimeOptions::default()).unwrap();
+    assert_eq!((r.plateau_start, r.steep_start), (K1, K2));
+    assert!(
+        r.phi_rise_before_critical > 0.01 && !r.three_regimes,
+        "{r:?}"
+    );
+}
+
+#[test]
+fn too_short_curves_have_no_regimes() {
+    let c = curve(0.0, &mut Rng::new(0));
+    assert!(find_regimes(&c[..8], &RegimeOptions::default()).is_none());
+    assert!(find_regimes(&c[..9], &RegimeOptions::default()).is_some());
+}
