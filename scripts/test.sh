@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Runs the test suite. Installs Mesa's software Vulkan driver (lavapipe) and the Vulkan loader
-# first when they are missing and apt is available, so GPU tests can run without a GPU.
+# first when they are missing and apt is available, so GPU tests can run without a GPU; and
+# Slurm with MUNGE, for the test that runs a sweep's job array on a single-node Slurm it starts
+# itself (tests/sweep.rs; with CI set it fails rather than skips when they are missing).
 #
 # On Debian 12 lavapipe comes from bookworm-backports (Mesa 25) when that suite can be reached:
 # Mesa 22.3's lavapipe, the stock one, runs our compute shaders about three times slower (it
@@ -55,6 +57,30 @@ if ! ldconfig -p 2>/dev/null | grep -q libvulkan.so.1 || ! ls /usr/share/vulkan/
     install_lavapipe
   else
     echo "note: no apt-get; install Mesa's Vulkan drivers (lavapipe) yourself for the GPU tests" >&2
+  fi
+fi
+
+# The Slurm daemons, client and MUNGE from the distribution. The test starts its own daemons
+# (its own key, socket, ports and config under a temporary directory) and stops them; nothing
+# here is configured or started. Without recommends: the plugin development packages are not
+# needed.
+install_slurm() {
+  local sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo="sudo"
+  $sudo apt-get update -q
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends \
+    slurmctld slurmd slurm-client munge
+}
+
+have_program() {
+  command -v "$1" >/dev/null 2>&1 || [ -x "/usr/sbin/$1" ] || [ -x "/sbin/$1" ]
+}
+
+if ! have_program slurmctld || ! have_program slurmd || ! have_program sbatch || ! have_program munged; then
+  if command -v apt-get >/dev/null 2>&1; then
+    install_slurm
+  else
+    echo "note: no apt-get; install Slurm (slurmctld, slurmd, client) and MUNGE yourself for the Slurm test" >&2
   fi
 fi
 

@@ -20,3 +20,4 @@ pub mod output;
 pub mod rng;
 pub mod sample;
 pub mod state;
+pub mod sweep;

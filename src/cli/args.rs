@@ -129,6 +129,45 @@ pub(super) enum Command {
         #[arg(long, default_value = "bench")]
         out: PathBuf,
     },
+    /// Run a parameter sweep: every combination of the sweep file's wall speeds, seeds, model
+    /// variants and sample sizes, each case an ordinary run directory; finished cases are
+    /// skipped, interrupted ones resumed from their checkpoint. `sweep collect DIR` merges the
+    /// cases' results into DIR/sweep.csv.
+    #[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
+    Sweep {
+        #[command(subcommand)]
+        action: Option<SweepAction>,
+        /// The sweep file (see configs/sweep_example.toml).
+        #[arg(required = true)]
+        sweep: Option<PathBuf>,
+        /// Output directory (overrides the sweep file's `out`; default runs/<sweep file name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Cases run at once (1 to 1024).
+        #[arg(long)]
+        jobs: Option<usize>,
+        /// Threads of each case's CPU engine (1 to 1024; default: the cores divided among the
+        /// jobs; with --slurm: 1). Any count gives the same bits.
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Engine of each case: cpu, gpu or auto (as for `run`).
+        #[arg(long, default_value = "auto")]
+        backend: Backend,
+        /// Do not run: write DIR/sweep.sbatch, a Slurm job array with one case per task, and
+        /// DIR/cases.csv.
+        #[arg(long)]
+        slurm: bool,
+        /// Run only the case of this index (0-based, the order of cases.csv): what each array
+        /// task of sweep.sbatch does.
+        #[arg(long, conflicts_with = "slurm")]
+        case: Option<usize>,
+        /// With --slurm: time limit per task (overrides [slurm] time), e.g. 02:00:00.
+        #[arg(long, requires = "slurm")]
+        time: Option<String>,
+        /// With --slurm: memory per task in MB (overrides [slurm] mem_mb).
+        #[arg(long, requires = "slurm")]
+        mem_mb: Option<u64>,
+    },
     /// Write measured-like data from the simulator, with effects switched on and noise added.
     Synth {
         /// Base config (sample size, wall speed, time step, model).
@@ -165,6 +204,17 @@ pub(super) enum Command {
         out: PathBuf,
         #[arg(long)]
         threads: Option<usize>,
+    },
+}
+
+#[derive(Subcommand)]
+pub(super) enum SweepAction {
+    /// Merge what a sweep's cases wrote into DIR/sweep.csv (one row per case: parameters,
+    /// status, final phi and pressure, wall-clock seconds, curve path) and name the cases that
+    /// are missing, failed or unfinished (exit status 2 if any).
+    Collect {
+        /// The sweep's output directory.
+        dir: PathBuf,
     },
 }
 

@@ -7,9 +7,9 @@ mod progress;
 
 use crate::calibrate::synth::SynthSpec;
 use crate::job::{Backend, PrivateRuntimeDir};
-use args::{Cli, Command};
+use args::{Cli, Command, SweepAction};
 use clap::Parser;
-use commands::{bench, calibrate, fit, generate, info, resume, run, synth};
+use commands::{bench, calibrate, fit, generate, info, resume, run, sweep, sweep_collect, synth};
 use std::process::ExitCode;
 
 /// Parses the command line and runs the command; errors are printed, exit status 2.
@@ -73,6 +73,32 @@ pub fn main() -> ExitCode {
             sample_order,
             out,
         ),
+        Command::Sweep {
+            action: Some(SweepAction::Collect { dir }),
+            ..
+        } => sweep_collect(&dir),
+        Command::Sweep {
+            action: None,
+            sweep: file,
+            out,
+            jobs,
+            threads,
+            backend,
+            slurm,
+            case,
+            time,
+            mem_mb,
+        } => sweep(commands::SweepRequest {
+            file: file.expect("clap requires the sweep file"),
+            out,
+            jobs,
+            threads,
+            backend,
+            slurm,
+            case,
+            time,
+            mem_mb,
+        }),
         Command::Synth {
             config,
             effect,

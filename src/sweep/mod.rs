@@ -1,0 +1,559 @@
+//! Parameter sweeps: the cartesian product of wall speeds, seeds, model variants and sample
+//! sizes, each case an ordinary run directory with its own `config.toml`, run by the same
+//! binary as a child process (`dustdem run`, or `dustdem resume` of its checkpoint), a few at
+//! a time; or exported as a Slurm job array; and collected into one table.
+//!
+//! Here: the case directories (what state a case is in, its status file, its list) and the
+//! runner; `spec` reads the sweep file, `slurm` writes the job-array script, `collect` the
+//! table.
+//!
+//! A case directory holds, besides what a run writes, `sweep-status.toml` (written atomically:
+//! `running` when an attempt starts, then `done`, `failed` or `interrupted` when it ends) and
+//! `sweep.log` (what each attempt printed). A case counts as finished only when its status says
+//! `done` for the run id the directory's `run.id` holds: a run started by hand in the directory
+//! since then (`dustdem run --force`) makes the case unfinished again.
+
+pub mod collect;
+pub mod slurm;
+pub mod spec;
+
+pub use spec::{Case, Sweep};
+
+use crate::job::load_checkpoint;
+use crate::output::atomic::write_atomic;
+use crate::output::csv::read_csv;
+use crate::output::run_dir::{
+    earlier_results, read_run_id, CHECKPOINT_FILE, CONFIG_FILE, CURVE_FILE,
+};
+use serde::{Deserialize, Serialize};
+use std::fs::{self, File, OpenOptions};
+use std::io::{Read, Seek, SeekFrom, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitStatus, Stdio};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+/// A case's status file, beside its run's outputs.
+pub const STATUS_FILE: &str = "sweep-status.toml";
+/// What the attempts at a case printed (appended, one header line per attempt).
+pub const LOG_FILE: &str = "sweep.log";
+/// The list of cases, in the sweep's output directory.
+pub const CASES_FILE: &str = "cases.csv";
+/// The merged table `collect` writes into the sweep's output directory.
+pub const TABLE_FILE: &str = "sweep.csv";
+/// The Slurm job-array script, in the sweep's output directory.
+pub const SBATCH_FILE: &str = "sweep.sbatch";
+
+/// What a case's status file records.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct CaseStatus {
+    pub case: String,
+    /// `running`, `done`, `failed` or `interrupted`.
+    pub status: String,
+    /// The run id of the directory's run when the status was written.
+    pub run_id: String,
+    /// Attempts made at the case (a resume is an attempt).
+    pub attempts: u32,
+    /// Wall-clock seconds of the attempts whose end the sweep saw, summed.
+    pub wall_clock_s: f64,
+    /// The step the last attempt resumed from (none: it started at step 0).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub resumed_from_step: Option<u64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub steps: Option<u64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub final_phi: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub final_pressure_pa: Option<f64>,
+    /// Why the run stopped (`filling factor reached phi_stop`, ...), for a finished case.
+    pub stop: String,
+    /// What went wrong, for a failed or interrupted case.
+    pub message: String,
+}
+
+impl CaseStatus {
+    pub fn read(dir: &Path) -> Option<CaseStatus> {
+        let text = fs::read_to_string(dir.join(STATUS_FILE)).ok()?;
+        toml::from_str(&text).ok()
+    }
+
+    fn write(&self, dir: &Path) -> Result<(), String> {
+        let path = dir.join(STATUS_FILE);
+        let text = format!(
+            "# dustdem sweep: status of this case (written by the sweep)\n{}",
+            toml::to_string(self).map_err(|e| e.to_string())?
+        );
+        write_atomic(&path, text.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))
+    }
+
+    /// Done, for the run the directory holds now.
+    pub fn is_done_in(&self, dir: &Path) -> bool {
+        self.status == "done" && read_run_id(dir).is_ok_and(|id| id == self.run_id)
+    }
+}
+
+/// Where a case stands, read from its directory.
+#[derive(Debug)]
+pub enum CaseState {
+    /// Finished: skipped.
+    Done(CaseStatus),
+    /// A checkpoint and no finished run: resumed from the checkpoint.
+    Resume(PathBuf),
+    /// Nothing to continue from: run from the start; `replace` when the directory holds the
+    /// results of an attempt that ended before its first checkpoint.
+    Fresh { replace: bool },
+}
+
+/// Reads where `case` stands in `dir`. A directory that is not this case's (no `config.toml`
+/// but results, or a `config.toml` other than the case's) is an error: the sweep file or the
+/// base config changed since, and the sweep does not overwrite results it did not make.
+pub fn case_state(case: &Case, dir: &Path) -> Result<CaseState, String> {
+    if !dir.exists() {
+        return Ok(CaseState::Fresh { replace: false });
+    }
+    let results = earlier_results(dir)?;
+    match fs::read_to_string(dir.join(CONFIG_FILE)) {
+        Ok(text) if text == case.config_text => {}
+        Ok(_) => {
+            return Err(format!(
+                "case {}: {} differs from the config the sweep file gives this case now (the \
+                 sweep file or its base config changed since the case was started); run the \
+                 sweep into another --out, or remove {} to run the case again",
+                case.name,
+                dir.join(CONFIG_FILE).display(),
+                dir.display()
+            ))
+        }
+        Err(_) if results.is_empty() => return Ok(CaseState::Fresh { replace: false }),
+        Err(_) => {
+            return Err(format!(
+                "case {}: {} holds run results but no {CONFIG_FILE}: not a case of this sweep; \
+                 run the sweep into another --out, or move the directory away",
+                case.name,
+                dir.display()
+            ))
+        }
+    }
+    if let Some(status) = CaseStatus::read(dir) {
+        if status.is_done_in(dir) {
+            return Ok(CaseState::Done(status));
+        }
+    }
+    let checkpoint = dir.join(CHECKPOINT_FILE);
+    if checkpoint.is_file() {
+        return Ok(CaseState::Resume(checkpoint));
+    }
+    Ok(CaseState::Fresh {
+        replace: !results.is_empty(),
+    })
+}
+
+/// Writes the list of cases (`cases.csv`) into the sweep's output directory.
+pub fn write_case_list(sweep: &Sweep, out_dir: &Path, cases: &[Case]) -> Result<(), String> {
+    fs::create_dir_all(out_dir).map_err(|e| format!("{}: {e}", out_dir.display()))?;
+    let mut text = format!(
+        "# dustdem sweep of {} (base config {}): {} cases, one directory each\n\
+         index,case,wall_speed_m_s,seed,variant,monomers\n",
+        std::path::absolute(&sweep.file)
+            .unwrap_or_else(|_| sweep.file.clone())
+            .display(),
+        sweep.base_path.display(),
+        cases.len()
+    );
+    for c in cases {
+        text.push_str(&format!(
+            "{},{},{},{},{},{}\n",
+            c.index, c.name, c.wall_speed, c.seed, c.variant, c.monomers
+        ));
+    }
+    let path = out_dir.join(CASES_FILE);
+    // Array tasks write the same bytes at once: each renames its own complete file over it.
+    write_atomic(&path, text.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// How the cases run.
+pub struct RunSettings {
+    /// Cases at once.
+    pub jobs: usize,
+    /// Threads of each case's CPU engine.
+    pub threads: usize,
+    /// `--backend` of each case's run.
+    pub backend: String,
+    /// The binary each case runs (this one).
+    pub exe: PathBuf,
+}
+
+/// What a sweep's cases came to.
+#[derive(Debug, Default)]
+pub struct Outcome {
+    pub done: usize,
+    pub skipped: usize,
+    /// Case names with what went wrong.
+    pub failed: Vec<(String, String)>,
+    pub interrupted: Vec<String>,
+    /// Cases not started because the sweep was interrupted first.
+    pub not_started: usize,
+}
+
+/// One attempt running.
+struct Attempt {
+    index: usize,
+    pid: u32,
+    started: Instant,
+    log_offset: u64,
+    resumed_from_step: Option<u64>,
+    previous: Option<CaseStatus>,
+}
+
+/// Runs `cases` (whose directories are `out_dir/<name>`), at most `settings.jobs` at once,
+/// each as a child process of `settings.exe`: finished cases are skipped, cases with a
+/// checkpoint resumed, the others run from the start. `interrupt` (SIGINT/SIGTERM) stops
+/// launching; the running cases get SIGTERM, so they checkpoint and stop, and are recorded as
+/// interrupted. Progress lines go to `say`.
+pub fn run_cases(
+    cases: &[Case],
+    total: usize,
+    out_dir: &Path,
+    settings: &RunSettings,
+    interrupt: &AtomicBool,
+    say: &mut dyn FnMut(&str),
+) -> Result<Outcome, String> {
+    // Every case's state is read before anything runs: a conflict stops the sweep untouched.
+    let mut pending = Vec::new();
+    let mut outcome = Outcome::default();
+    let (mut to_resume, mut to_run) = (0, 0);
+    for case in cases {
+        let dir = out_dir.join(&case.name);
+        match case_state(case, &dir)? {
+            CaseState::Done(_) => outcome.skipped += 1,
+            state => {
+                if matches!(state, CaseState::Resume(_)) {
+                    to_resume += 1;
+                } else {
+                    to_run += 1;
+                }
+                pending.push((case, state));
+            }
+        }
+    }
+    say(&format!(
+        "sweep: {} case{} in {}: {} finished (skipped), {to_resume} to resume, {to_run} to run; \
+         {} at once, {} thread{} each",
+        cases.len(),
+        if cases.len() == 1 { "" } else { "s" },
+        out_dir.display(),
+        outcome.skipped,
+        settings.jobs,
+        settings.threads,
+        if settings.threads == 1 { "" } else { "s" },
+    ));
+    let finished_before = total - cases.len() + outcome.skipped;
+    let mut finished = finished_before;
+    let (tx, rx) = mpsc::channel::<(usize, std::io::Result<ExitStatus>)>();
+    let mut running: Vec<Attempt> = Vec::new();
+    let mut queue: Vec<_> = pending.into_iter().rev().collect();
+    let mut forwarded = false;
+    loop {
+        let stop = interrupt.load(Ordering::SeqCst);
+        if stop && !forwarded {
+            for a in &running {
+                terminate(a.pid);
+            }
+            forwarded = true;
+            if !queue.is_empty() {
+                say(&format!(
+                    "sweep: interrupted; {} running case{} checkpoint and stop, {} not started",
+                    running.len(),
+                    if running.len() == 1 { "" } else { "s" },
+                    queue.len()
+                ));
+            }
+        }
+        while !stop && running.len() < settings.jobs {
+            let Some((case, state)) = queue.pop() else {
+                break;
+            };
+            let dir = out_dir.join(&case.name);
+            match launch(case, &dir, &state, settings, &tx) {
+                Ok(attempt) => {
+                    say(&match attempt.resumed_from_step {
+                        Some(step) => format!(
+                            "sweep [{finished}/{total}] resuming {} from step {step}",
+                            case.name
+                        ),
+                        None => format!("sweep [{finished}/{total}] started {}", case.name),
+                    });
+                    running.push(attempt);
+                }
+                Err(e) => {
+                    say(&format!(
+                        "sweep [{finished}/{total}] FAILED {}: {e}",
+                        case.name
+                    ));
+                    outcome.failed.push((case.name.clone(), e));
+                }
+            }
+        }
+        if running.is_empty() && (queue.is_empty() || stop) {
+            outcome.not_started = queue.len();
+            break;
+        }
+        let Ok((index, status)) = rx.recv_timeout(Duration::from_millis(200)) else {
+            continue;
+        };
+        let k = running
+            .iter()
+            .position(|a| a.index == index)
+            .expect("a running case reported");
+        let attempt = running.swap_remove(k);
+        let case = cases
+            .iter()
+            .find(|c| c.index == index)
+            .expect("a case of this sweep");
+        let dir = out_dir.join(&case.name);
+        let status = status.map_err(|e| format!("waiting for case {}: {e}", case.name))?;
+        let record = conclude(
+            case,
+            &dir,
+            &attempt,
+            status,
+            interrupt.load(Ordering::SeqCst),
+        );
+        record.write(&dir)?;
+        let seconds = attempt.started.elapsed().as_secs_f64();
+        match record.status.as_str() {
+            "done" => {
+                finished += 1;
+                outcome.done += 1;
+                say(&format!(
+                    "sweep [{finished}/{total}] done {} in {seconds:.1} s: phi {:.4}, P {:.4e} Pa \
+                     ({})",
+                    case.name,
+                    record.final_phi.unwrap_or(f64::NAN),
+                    record.final_pressure_pa.unwrap_or(f64::NAN),
+                    record.stop
+                ));
+            }
+            "interrupted" => {
+                say(&format!(
+                    "sweep [{finished}/{total}] interrupted {} after {seconds:.1} s: {}",
+                    case.name, record.message
+                ));
+                outcome.interrupted.push(case.name.clone());
+            }
+            _ => {
+                say(&format!(
+                    "sweep [{finished}/{total}] FAILED {} after {seconds:.1} s: {} (log: {})",
+                    case.name,
+                    record.message,
+                    dir.join(LOG_FILE).display()
+                ));
+                outcome
+                    .failed
+                    .push((case.name.clone(), record.message.clone()));
+            }
+        }
+    }
+    Ok(outcome)
+}
+
+/// Asks a running case to checkpoint and stop, as Ctrl-C or a scheduler's SIGTERM would.
+fn terminate(pid: u32) {
+    if let Ok(pid) = libc::pid_t::try_from(pid) {
+        // SAFETY: kill(2) with a child's pid and a signal number has no memory effects.
+        unsafe {
+            libc::kill(pid, libc::SIGTERM);
+        }
+    }
+}
+
+/// Prepares a case's directory and starts its attempt (`run`, or `resume` of its checkpoint)
+/// as a child whose output goes to the case's log; a waiter thread reports its exit on `tx`.
+fn launch(
+    case: &Case,
+    dir: &Path,
+    state: &CaseState,
+    settings: &RunSettings,
+    tx: &mpsc::Sender<(usize, std::io::Result<ExitStatus>)>,
+) -> Result<Attempt, String> {
+    let at = |p: &Path| {
+        let p = p.to_path_buf();
+        move |e: std::io::Error| format!("{}: {e}", p.display())
+    };
+    fs::create_dir_all(dir).map_err(at(dir))?;
+    let config_path = dir.join(CONFIG_FILE);
+    if fs::read_to_string(&config_path).ok().as_deref() != Some(case.config_text.as_str()) {
+        write_atomic(&config_path, case.config_text.as_bytes()).map_err(at(&config_path))?;
+    }
+    let previous = CaseStatus::read(dir);
+    let mut args: Vec<String> = Vec::new();
+    let mut resumed_from_step = None;
+    match state {
+        CaseState::Resume(checkpoint) => {
+            resumed_from_step = load_checkpoint(checkpoint).ok().map(|c| c.run.engine.step);
+            args.extend(["resume".into(), checkpoint.display().to_string()]);
+        }
+        CaseState::Fresh { replace } => {
+            args.extend([
+                "run".into(),
+                config_path.display().to_string(),
+                "--out".into(),
+                dir.display().to_string(),
+            ]);
+            if *replace {
+                args.push("--force".into());
+            }
+        }
+        CaseState::Done(_) => unreachable!("finished cases are not launched"),
+    }
+    args.extend([
+        "--backend".into(),
+        settings.backend.clone(),
+        "--threads".into(),
+        settings.threads.to_string(),
+        "--quiet".into(),
+    ]);
+    let attempts = previous.as_ref().map_or(0, |p| p.attempts) + 1;
+    CaseStatus {
+        case: case.name.clone(),
+        status: "running".into(),
+        run_id: read_run_id(dir).unwrap_or_default(),
+        attempts,
+        wall_clock_s: previous.as_ref().map_or(0.0, |p| p.wall_clock_s),
+        resumed_from_step,
+        message: format!("started by process {}", std::process::id()),
+        ..CaseStatus::default()
+    }
+    .write(dir)?;
+    let log_path = dir.join(LOG_FILE);
+    let mut log = OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(&log_path)
+        .map_err(at(&log_path))?;
+    writeln!(
+        log,
+        "## attempt {attempts}: {} {}",
+        settings.exe.display(),
+        args.join(" ")
+    )
+    .map_err(at(&log_path))?;
+    let log_offset = log.seek(SeekFrom::End(0)).map_err(at(&log_path))?;
+    let err_log = log.try_clone().map_err(at(&log_path))?;
+    let mut child = Command::new(&settings.exe)
+        .args(&args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::from(log))
+        .stderr(Stdio::from(err_log))
+        .spawn()
+        .map_err(|e| format!("cannot start {}: {e}", settings.exe.display()))?;
+    let pid = child.id();
+    let tx = tx.clone();
+    let index = case.index;
+    std::thread::spawn(move || {
+        let status = child.wait();
+        let _ = tx.send((index, status));
+    });
+    Ok(Attempt {
+        index,
+        pid,
+        started: Instant::now(),
+        log_offset,
+        resumed_from_step,
+        previous,
+    })
+}
+
+/// The status an attempt ended in: done (exit 0), interrupted (stopped by a signal it was
+/// asked to stop by, or the sweep's) or failed, with the final row of its curve.
+fn conclude(
+    case: &Case,
+    dir: &Path,
+    attempt: &Attempt,
+    status: ExitStatus,
+    interrupted: bool,
+) -> CaseStatus {
+    let printed = read_from(&dir.join(LOG_FILE), attempt.log_offset);
+    let stop = printed
+        .lines()
+        .rev()
+        .find_map(|l| l.strip_prefix("stopped at step "))
+        .and_then(|l| l.split_once("): "))
+        .map_or(String::new(), |(_, why)| why.trim().to_string());
+    let error = printed
+        .lines()
+        .filter_map(|l| l.strip_prefix("error: "))
+        .next_back()
+        .map(str::to_string);
+    let (steps, phi, pressure) = last_row(&dir.join(CURVE_FILE));
+    let previous_seconds = attempt.previous.as_ref().map_or(0.0, |p| p.wall_clock_s);
+    let mut record = CaseStatus {
+        case: case.name.clone(),
+        status: String::new(),
+        run_id: read_run_id(dir).unwrap_or_default(),
+        attempts: attempt.previous.as_ref().map_or(0, |p| p.attempts) + 1,
+        wall_clock_s: previous_seconds + attempt.started.elapsed().as_secs_f64(),
+        resumed_from_step: attempt.resumed_from_step,
+        steps,
+        final_phi: phi,
+        final_pressure_pa: pressure,
+        stop: String::new(),
+        message: String::new(),
+    };
+    use std::os::unix::process::ExitStatusExt;
+    if status.success() {
+        record.status = "done".into();
+        record.stop = stop;
+    } else if let Some(signal) = status.signal() {
+        record.status = "interrupted".into();
+        record.message = format!(
+            "killed by signal {signal}; run the sweep again to continue from the last checkpoint"
+        );
+    } else if interrupted
+        || error
+            .as_deref()
+            .is_some_and(|e| e.starts_with("interrupted"))
+    {
+        record.status = "interrupted".into();
+        record.message = "stopped by a signal after writing a checkpoint; run the sweep again \
+                          to resume it"
+            .into();
+    } else {
+        record.status = "failed".into();
+        record.message = error.unwrap_or_else(|| {
+            format!(
+                "exit status {}",
+                status.code().map_or("?".into(), |c| c.to_string())
+            )
+        });
+    }
+    record
+}
+
+/// What a file holds from byte `offset` on (lossy UTF-8; empty if it cannot be read).
+fn read_from(path: &Path, offset: u64) -> String {
+    let mut bytes = Vec::new();
+    if let Ok(mut f) = File::open(path) {
+        if f.seek(SeekFrom::Start(offset)).is_ok() {
+            let _ = f.read_to_end(&mut bytes);
+        }
+    }
+    String::from_utf8_lossy(&bytes).into_owned()
+}
+
+/// Step, φ and top-wall pressure of a curve's last row (none where there is no row).
+pub fn last_row(curve: &Path) -> (Option<u64>, Option<f64>, Option<f64>) {
+    let Ok((header, rows)) = read_csv(curve) else {
+        return (None, None, None);
+    };
+    let Some(last) = rows.last() else {
+        return (None, None, None);
+    };
+    let column = |name: &str| header.iter().position(|h| h == name).map(|k| last[k]);
+    (
+        column("step").map(|s| s as u64),
+        column("phi"),
+        column("p_top_pa"),
+    )
+}
