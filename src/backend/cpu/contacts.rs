@@ -5,7 +5,7 @@
 //! chunks, each summing its dissipation in owner order); a row's events are the same whatever
 //! the thread count.
 
-use super::prefetch::prefetch_row_ahead;
+use super::prefetch::{prefetch_row_ahead, worthwhile};
 use super::workspace::{split_len, sum_in_order, CHUNK};
 use crate::engine::EngineError;
 use crate::model::{wall as wall_law, ContactLaw};
@@ -37,6 +37,7 @@ pub fn contacts(
 ) -> Result<bool, EngineError> {
     let (ps, ws) = (table.pair_slots, table.wall_slots);
     let n = monomers.len();
+    let prefetching = worthwhile(table);
     let chunks: Vec<Result<(Dissipation, bool), EngineError>> = (
         table.pair.par_chunks_mut(CHUNK * ps),
         table.pair_count.par_chunks_mut(CHUNK),
@@ -51,7 +52,9 @@ pub fn contacts(
             let mut changed = false;
             for k in 0..pair_counts.len() {
                 let i = chunk * CHUNK + k;
-                prefetch_row_ahead(pairs, ps, pair_counts, k);
+                if prefetching {
+                    prefetch_row_ahead(pairs, ps, pair_counts, k);
+                }
                 let mut row = Row {
                     pair: &mut pairs[k * ps..(k + 1) * ps],
                     pair_count: &mut pair_counts[k],

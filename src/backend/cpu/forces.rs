@@ -7,7 +7,7 @@
 //! and slot, then its own slots), the order in which a single thread adding contact by contact
 //! would sum them. So the forces do not depend on the thread count and equal the device's bits.
 
-use super::prefetch::{prefetch, prefetch_one, prefetch_partners_ahead, prefetch_row_ahead, AHEAD};
+use super::prefetch::{prefetch_one, prefetch_partners_ahead, prefetch_row_ahead, worthwhile};
 use super::workspace::{each_accumulator, split_len, sum_in_order, Workspace, CHUNK};
 use crate::model::{rolling, sliding, twisting, ContactLaw};
 use crate::state::interaction::{pair_interaction, pair_step_energy};
@@ -71,6 +71,7 @@ pub fn forces_per_slot(
     workspace
         .pair_result
         .resize(n * slots, PairResult::default());
+    let prefetching = worthwhile(table);
     let counts = &table.pair_count;
     let chunks: Vec<Dissipation> = table
         .pair
@@ -84,12 +85,14 @@ pub fn forces_per_slot(
             let counts = &counts[first..(first + CHUNK).min(n)];
             for (k, &count) in counts.iter().enumerate() {
                 let i = first + k;
-                prefetch_row_ahead(rows, slots, counts, k);
-                prefetch_row_ahead(results, slots, counts, k);
-                prefetch_partners_ahead(rows, slots, counts, k, |j| {
-                    prefetch_one(&monomers.position[j]);
-                    prefetch_one(&monomers.velocity[j]);
-                });
+                if prefetching {
+                    prefetch_row_ahead(rows, slots, counts, k);
+                    prefetch_row_ahead(results, slots, counts, k);
+                    prefetch_partners_ahead(rows, slots, counts, k, |j| {
+                        prefetch_one(&monomers.position[j]);
+                        prefetch_one(&monomers.velocity[j]);
+                    });
+                }
                 let row = &mut rows[k * slots..(k + 1) * slots];
                 let out = &mut results[k * slots..(k + 1) * slots];
                 for (c, result) in row.iter_mut().zip(out.iter_mut()).take(count as usize) {
@@ -121,15 +124,7 @@ pub fn gather_pair_forces(monomers: &mut Monomers, table: &ContactTable, workspa
     let incoming = &workspace.incoming;
     let results = &workspace.pair_result;
     let counts = &table.pair_count;
-    let n = counts.len();
     each_accumulator(monomers, |i, force, damping, torque| {
-        let ahead = i + AHEAD;
-        if ahead < n {
-            for &idx in incoming.of(ahead) {
-                prefetch(std::slice::from_ref(&results[idx as usize]));
-            }
-            prefetch(&results[ahead * slots..ahead * slots + counts[ahead] as usize]);
-        }
         let (mut f, mut fd, mut t) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
         for &idx in incoming.of(i) {
             let r = &results[idx as usize];

@@ -4,7 +4,7 @@
 //! Every loop is per monomer (or per owner row) with no sums across monomers, so it runs in
 //! parallel with the same bits for any thread count.
 
-use super::prefetch::{prefetch_one, prefetch_partners_ahead, prefetch_row_ahead};
+use super::prefetch::{prefetch_one, prefetch_partners_ahead, prefetch_row_ahead, worthwhile};
 use super::workspace::{split_len, CHUNK};
 use crate::model::pointer::rotate_pointer;
 use crate::model::twisting::twist_increment;
@@ -72,6 +72,7 @@ pub fn integrate_pairs(dt: f64, monomers: &Monomers, table: &mut ContactTable) {
     let vel = &monomers.velocity;
     let omega = &monomers.angular_velocity;
     let ps = table.pair_slots;
+    let prefetching = worthwhile(table);
     (
         table.pair.par_chunks_mut(CHUNK * ps),
         table.pair_count.par_chunks(CHUNK),
@@ -83,12 +84,14 @@ pub fn integrate_pairs(dt: f64, monomers: &Monomers, table: &mut ContactTable) {
             let first = chunk * CHUNK;
             for (k, &count) in counts.iter().enumerate() {
                 let i = first + k;
-                prefetch_row_ahead(rows, ps, counts, k);
-                prefetch_partners_ahead(rows, ps, counts, k, |j| {
-                    prefetch_one(&pos[j]);
-                    prefetch_one(&vel[j]);
-                    prefetch_one(&omega[j]);
-                });
+                if prefetching {
+                    prefetch_row_ahead(rows, ps, counts, k);
+                    prefetch_partners_ahead(rows, ps, counts, k, |j| {
+                        prefetch_one(&pos[j]);
+                        prefetch_one(&vel[j]);
+                        prefetch_one(&omega[j]);
+                    });
+                }
                 for c in &mut rows[k * ps..k * ps + count as usize] {
                     let j = c.partner as usize;
                     // Contact normal at mid-step, x(n+½) = x(n) + v(n+½) dt/2.
