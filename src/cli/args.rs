@@ -216,6 +216,13 @@ pub(super) enum SweepAction {
         /// The sweep's output directory.
         dir: PathBuf,
     },
+    /// Collect, then analyse the finished cases as Seizinger et al. (2012) do: seeds averaged
+    /// per (variant, size, speed), Eq. 13 per speed, p_m(v) and Δ(v), the compaction-front
+    /// speed, the regimes of dynamic curves; writes DIR/analysis.md, analysis.png and SVGs.
+    Analyze {
+        /// The sweep's output directory.
+        dir: PathBuf,
+    },
 }
 
 #[derive(clap::Args)]

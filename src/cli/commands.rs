@@ -484,3 +484,10 @@ pub(super) fn sweep_collect(dir: &Path) -> Result<(), String> {
         collected.table.display()
     ))
 }
+
+/// `dustdem sweep analyze DIR`: the report of the finished cases.
+pub(super) fn sweep_analyze(dir: &Path) -> Result<(), String> {
+    let report = crate::sweep::analyze::analyze_dir(dir)?;
+    println!("wrote {}", report.display());
+    Ok(())
+}

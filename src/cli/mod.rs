@@ -9,7 +9,9 @@ use crate::calibrate::synth::SynthSpec;
 use crate::job::{Backend, PrivateRuntimeDir};
 use args::{Cli, Command, SweepAction};
 use clap::Parser;
-use commands::{bench, calibrate, fit, generate, info, resume, run, sweep, sweep_collect, synth};
+use commands::{
+    bench, calibrate, fit, generate, info, resume, run, sweep, sweep_analyze, sweep_collect, synth,
+};
 use std::process::ExitCode;
 
 /// Parses the command line and runs the command; errors are printed, exit status 2.
@@ -77,6 +79,10 @@ pub fn main() -> ExitCode {
             action: Some(SweepAction::Collect { dir }),
             ..
         } => sweep_collect(&dir),
+        Command::Sweep {
+            action: Some(SweepAction::Analyze { dir }),
+            ..
+        } => sweep_analyze(&dir),
         Command::Sweep {
             action: None,
             sweep: file,

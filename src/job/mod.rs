@@ -10,7 +10,7 @@
 mod backend;
 mod checkpoint;
 mod collision;
-mod figure;
+pub(crate) mod figure;
 
 pub use backend::{gpu_report, reference_engine, Backend, PrivateRuntimeDir};
 pub use checkpoint::{load_checkpoint, LoadedCheckpoint};

@@ -13,6 +13,7 @@
 //! `done` for the run id the directory's `run.id` holds: a run started by hand in the directory
 //! since then (`dustdem run --force`) makes the case unfinished again.
 
+pub mod analyze;
 pub mod collect;
 pub mod slurm;
 pub mod spec;

@@ -1,0 +1,494 @@
+//! `dustdem sweep analyze`: the science of a finished sweep as Seizinger et al. (2012, Sect. 5)
+//! do it. The seeds of each (variant, size, speed) are averaged on a common pressure grid,
+//! Eq. 13 is fitted per speed (φ₁, φ₂ held at Güttler's values, and free), p_m(v) and Δ(v) with
+//! the paper's ansätze where enough speeds exist, the compaction-front speed per run and over
+//! seeds, and the three regimes of a dynamic curve are marked; all written as `analysis.md`
+//! beside the paper's numbers, with figures.
+
+use super::collect::collect;
+use crate::analysis::average::{average_on_log_grid, spread, AveragePoint, Spread};
+use crate::analysis::fit::{Eq13, FitResult};
+use crate::analysis::front::{run_front_speed, FrontOptions};
+use crate::analysis::per_speed::{fit_speed, SpeedFit, GUETTLER_PHI1, GUETTLER_PHI2};
+use crate::analysis::regimes::{find_regimes, RegimeOptions, Regimes};
+use crate::analysis::run_files::{
+    attach_wall_heights, read_curve, read_curve_table, read_profiles,
+};
+use crate::analysis::speed_laws::{
+    fit_power_law, fit_quadratic, fit_shifted_power_law, LawFit, PowerLaw, Quadratic,
+    ShiftedPowerLaw, PAPER_DELTA, PAPER_PM_DYNAMIC, PAPER_PM_DYNAMIC_SQUARE, PAPER_PM_QUASI_STATIC,
+    PAPER_V_CRIT,
+};
+use crate::job::figure::{BLUM_SCHRAEPLER_2004_UNI, GUETTLER_2009_OMNI};
+use crate::output::atomic::write_atomic;
+use crate::output::plot::{panels_png, Plot, Series, Style, PALETTE};
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+#[cfg(test)]
+mod tests;
+
+/// Wall speeds from this one up are dynamic compression (the paper's v ≥ 1 m/s).
+pub const DYNAMIC_FROM: f64 = 1.0;
+/// Pressure-grid points per decade of the seed averages.
+const GRID_PER_DECADE: usize = 8;
+/// The pressure range over which a curve is compared with Güttler et al. (2009) [Pa].
+pub const COMPARE_RANGE: (f64, f64) = (1e2, 1e5);
+
+/// One finished run of a sweep, as the analysis needs it.
+#[derive(Clone, Debug)]
+pub struct CaseData {
+    pub name: String,
+    pub wall_speed: f64,
+    pub seed: u64,
+    pub variant: String,
+    pub monomers: usize,
+    /// (P [Pa], φ) rows of its curve.
+    pub curve: Vec<(f64, f64)>,
+    /// Compaction-front speed [m/s] from its profiles, where it has one.
+    pub front_speed: Option<f64>,
+}
+
+/// The seeds of one (variant, size, speed).
+#[derive(Clone, Debug)]
+pub struct SpeedGroup {
+    pub wall_speed: f64,
+    pub seeds: usize,
+    pub average: Vec<AveragePoint>,
+    pub fit: SpeedFit,
+    /// RMS of the mean φ minus Güttler's Eq. 13 over [`COMPARE_RANGE`], and the points in it.
+    pub rms_vs_guettler: Option<(f64, usize)>,
+    /// Front speed over the seeds that have one.
+    pub front: Option<Spread>,
+    pub regimes: Option<Regimes>,
+}
+
+/// The speed laws of one (variant, size), each where enough speeds exist.
+#[derive(Clone, Debug, Default)]
+pub struct Laws {
+    pub pm_quasi_static: Option<LawFit<Quadratic>>,
+    pub pm_dynamic: Option<LawFit<PowerLaw>>,
+    pub pm_dynamic_square: Option<LawFit<PowerLaw>>,
+    pub delta: Option<LawFit<ShiftedPowerLaw>>,
+}
+
+/// Everything of one (variant, size).
+#[derive(Clone, Debug)]
+pub struct Family {
+    pub variant: String,
+    pub monomers: usize,
+    pub speeds: Vec<SpeedGroup>,
+    pub laws: Laws,
+}
+
+/// Groups the cases by (variant, size, speed) and analyses each group and family.
+pub fn analyze_cases(cases: &[CaseData]) -> Vec<Family> {
+    let mut families: BTreeMap<(String, usize), BTreeMap<u64, Vec<&CaseData>>> = BTreeMap::new();
+    for c in cases {
+        families
+            .entry((c.variant.clone(), c.monomers))
+            .or_default()
+            .entry(c.wall_speed.to_bits())
+            .or_default()
+            .push(c);
+    }
+    families
+        .into_iter()
+        .map(|((variant, monomers), by_speed)| {
+            let mut speeds: Vec<SpeedGroup> = by_speed.into_values().map(speed_group).collect();
+            speeds.sort_by(|a, b| a.wall_speed.total_cmp(&b.wall_speed));
+            let laws = speed_laws(&speeds);
+            Family {
+                variant,
+                monomers,
+                speeds,
+                laws,
+            }
+        })
+        .collect()
+}
+
+fn speed_group(runs: Vec<&CaseData>) -> SpeedGroup {
+    let curves: Vec<Vec<(f64, f64)>> = runs.iter().map(|c| c.curve.clone()).collect();
+    let average = average_on_log_grid(&curves, GRID_PER_DECADE);
+    let points: Vec<(f64, f64)> = average.iter().map(|a| (a.p, a.mean)).collect();
+    // The seeds' standard errors weight the fit where every point has one; a single seed
+    // (or a point only one seed reached) leaves the residual scatter to scale the errors.
+    let sem: Vec<f64> = average.iter().map(|a| a.sem).collect();
+    let sigma = sem
+        .iter()
+        .all(|s| s.is_finite() && *s > 0.0)
+        .then_some(&sem[..]);
+    let fit = fit_speed(&points, sigma, GUETTLER_PHI1, GUETTLER_PHI2);
+    let fronts: Vec<f64> = runs.iter().filter_map(|c| c.front_speed).collect();
+    SpeedGroup {
+        wall_speed: runs[0].wall_speed,
+        seeds: runs.len(),
+        rms_vs_guettler: rms_against(&points, &GUETTLER_2009_OMNI, COMPARE_RANGE),
+        front: spread(&fronts),
+        regimes: (runs[0].wall_speed >= DYNAMIC_FROM)
+            .then(|| find_regimes(&points, &RegimeOptions::default()))
+            .flatten(),
+        average,
+        fit,
+    }
+}
+
+/// RMS of φ − reference φ over the points with P in `range`.
+pub fn rms_against(
+    points: &[(f64, f64)],
+    reference: &Eq13,
+    range: (f64, f64),
+) -> Option<(f64, usize)> {
+    let d: Vec<f64> = points
+        .iter()
+        .filter(|(p, _)| *p >= range.0 && *p <= range.1)
+        .map(|(p, phi)| phi - reference.phi(*p))
+        .collect();
+    if d.is_empty() {
+        return None;
+    }
+    Some((
+        (d.iter().map(|x| x * x).sum::<f64>() / d.len() as f64).sqrt(),
+        d.len(),
+    ))
+}
+
+/// p_m [kPa] and Δ of the fixed-φ fits, with their errors, speed by speed.
+#[derive(Default)]
+struct Fitted {
+    v: Vec<f64>,
+    pm: Vec<f64>,
+    pm_err: Vec<f64>,
+    delta: Vec<f64>,
+    delta_err: Vec<f64>,
+}
+
+/// The fixed-φ fits at the speeds `keep` accepts (those with usable errors).
+fn fitted(speeds: &[SpeedGroup], keep: impl Fn(f64) -> bool) -> Fitted {
+    let mut out = Fitted::default();
+    for s in speeds.iter().filter(|s| keep(s.wall_speed)) {
+        if let Ok(f) = &s.fit.fixed {
+            if f.std_err.p_m.is_finite() && f.std_err.p_m > 0.0 && f.std_err.delta > 0.0 {
+                out.v.push(s.wall_speed);
+                out.pm.push(f.params.p_m / 1e3);
+                out.pm_err.push(f.std_err.p_m / 1e3);
+                out.delta.push(f.params.delta);
+                out.delta_err.push(f.std_err.delta);
+            }
+        }
+    }
+    out
+}
+
+fn speed_laws(speeds: &[SpeedGroup]) -> Laws {
+    let slow = fitted(speeds, |v| v <= 1.0);
+    let fast = fitted(speeds, |v| v >= 1.0);
+    let all = fitted(speeds, |_| true);
+    // Each law needs more speeds than parameters, or its errors mean nothing.
+    Laws {
+        pm_quasi_static: (slow.v.len() > 3)
+            .then(|| fit_quadratic(&slow.v, &slow.pm, Some(&slow.pm_err)).ok())
+            .flatten(),
+        pm_dynamic: (fast.v.len() > 3)
+            .then(|| fit_power_law(&fast.v, &fast.pm, Some(&fast.pm_err), None).ok())
+            .flatten(),
+        pm_dynamic_square: (fast.v.len() > 2)
+            .then(|| fit_power_law(&fast.v, &fast.pm, Some(&fast.pm_err), Some(2.0)).ok())
+            .flatten(),
+        delta: (all.v.len() > 3)
+            .then(|| fit_shifted_power_law(&all.v, &all.delta, Some(&all.delta_err)).ok())
+            .flatten(),
+    }
+}
+
+/// Reads every finished case of the sweep directory `dir` (after `collect`).
+pub fn read_cases(dir: &Path) -> Result<(Vec<CaseData>, Vec<String>), String> {
+    let collected = collect(dir)?;
+    let mut cases = Vec::new();
+    let mut skipped = Vec::new();
+    for row in &collected.rows {
+        if row.status != "done" {
+            skipped.push(format!("{} ({})", row.case, row.status));
+            continue;
+        }
+        let [speed, seed, variant, monomers] = &row.parameters;
+        let parse = |what: &str, text: &str| format!("{}: cannot read {what} '{text}'", row.case);
+        let case_dir = dir.join(&row.case);
+        let wall_speed: f64 = speed.parse().map_err(|_| parse("wall speed", speed))?;
+        let curve = read_curve(case_dir.join("curve.csv"))?;
+        let front_speed = if wall_speed >= DYNAMIC_FROM {
+            front_of(&case_dir)
+        } else {
+            None
+        };
+        cases.push(CaseData {
+            name: row.case.clone(),
+            wall_speed,
+            seed: seed.parse().map_err(|_| parse("seed", seed))?,
+            variant: variant.clone(),
+            monomers: monomers.parse().map_err(|_| parse("monomers", monomers))?,
+            curve,
+            front_speed,
+        });
+    }
+    Ok((cases, skipped))
+}
+
+/// The front speed of one run from its profiles, where it wrote enough of them.
+fn front_of(case_dir: &Path) -> Option<f64> {
+    let mut profiles = read_profiles(case_dir.join("profiles.csv")).ok()?;
+    if let Ok(table) = read_curve_table(case_dir.join("curve.csv")) {
+        attach_wall_heights(&mut profiles, &table);
+    }
+    run_front_speed(&profiles, &FrontOptions::default()).map(|f| f.front.v)
+}
+
+/// Analyses the sweep in `dir` and writes `analysis.md`, `analysis.png` and one SVG per figure
+/// there. Returns the report's path.
+pub fn analyze_dir(dir: &Path) -> Result<PathBuf, String> {
+    let (cases, skipped) = read_cases(dir)?;
+    if cases.is_empty() {
+        return Err(format!("{}: no finished case to analyse", dir.display()));
+    }
+    let families = analyze_cases(&cases);
+    let mut panels = Vec::new();
+    for f in &families {
+        let tag = format!("{}_n{}", f.variant, f.monomers);
+        for (name, plot) in [
+            (format!("phi_p_{tag}.svg"), curves_plot(f)),
+            (format!("pm_v_{tag}.svg"), pm_plot(f)),
+            (format!("delta_v_{tag}.svg"), delta_plot(f)),
+        ] {
+            plot.save(dir.join(&name))
+                .map_err(|e| format!("{}: {e}", dir.join(&name).display()))?;
+            panels.push(plot);
+        }
+    }
+    // One PNG per family row would be nicer; one strip keeps the file count small.
+    let png = panels_png(&panels)?;
+    write_atomic(&dir.join("analysis.png"), &png).map_err(|e| format!("analysis.png: {e}"))?;
+    let report = dir.join("analysis.md");
+    write_atomic(&report, markdown(&families, &skipped).as_bytes())
+        .map_err(|e| format!("{}: {e}", report.display()))?;
+    Ok(report)
+}
+
+fn fmt_fit(f: &Result<FitResult, crate::analysis::fit::FitError>) -> String {
+    match f {
+        Ok(f) => format!(
+            "{:.3} ± {:.3} | {:.3} ± {:.3}",
+            f.params.p_m / 1e3,
+            f.std_err.p_m / 1e3,
+            f.params.delta,
+            f.std_err.delta
+        ),
+        Err(e) => format!("no fit ({e:?}) | –"),
+    }
+}
+
+/// The report: per family a table of speeds, then the speed laws beside the paper's.
+pub fn markdown(families: &[Family], skipped: &[String]) -> String {
+    let mut s = String::from("# Sweep analysis\n\n");
+    s += "Seeds averaged on a common pressure grid (φ at the first time a run held P), Eq. 13 \
+          fitted to the mean (φ₁ = 0.15, φ₂ = 0.58 held as in Seizinger et al. 2012, and all \
+          free), p_m in kPa. Güttler: RMS of mean φ minus Güttler et al. (2009)'s Eq. 13 over \
+          10²–10⁵ Pa. v_p: compaction-front speed, mean ± standard error over seeds (paper: \
+          6.98 ± 0.16 m/s).\n\n";
+    if !skipped.is_empty() {
+        let _ = writeln!(s, "Not analysed (not finished): {}.\n", skipped.join(", "));
+    }
+    for f in families {
+        let _ = writeln!(s, "## {} model, {} monomers\n", f.variant, f.monomers);
+        s += "| v [m/s] | seeds | p_m fixed | Δ fixed | p_m free | Δ free | paper p_m | paper Δ | RMS Δφ vs Güttler | v_p [m/s] | regimes |\n";
+        s += "|---|---|---|---|---|---|---|---|---|---|---|\n";
+        for g in &f.speeds {
+            let v = g.wall_speed;
+            let paper_pm = if v <= 1.0 {
+                PAPER_PM_QUASI_STATIC.eval(v)
+            } else {
+                PAPER_PM_DYNAMIC.eval(v)
+            };
+            let rms = g
+                .rms_vs_guettler
+                .map_or("–".into(), |(r, n)| format!("{r:.4} ({n} points)"));
+            let front = g.front.as_ref().map_or("–".into(), |f| {
+                format!("{:.2} ± {:.2} ({})", f.mean, f.sem, f.count)
+            });
+            let regimes = g.regimes.as_ref().map_or("–".into(), |r| {
+                format!(
+                    "critical {:.3} kPa, plateau {:.3} kPa, steep from φ = {:.3}",
+                    r.critical_pressure / 1e3,
+                    r.plateau_pressure / 1e3,
+                    r.phi_at_steep_start
+                )
+            });
+            let free = fmt_fit(&g.fit.free);
+            let _ = writeln!(
+                s,
+                "| {v} | {} | {} | {free} | {paper_pm:.3} | {:.3} | {rms} | {front} | {regimes} |",
+                g.seeds,
+                fmt_fit(&g.fit.fixed),
+                PAPER_DELTA.eval(v)
+            );
+        }
+        s += "\nSpeed laws (p_m in kPa; where too few speeds, none):\n\n";
+        s += "| law | fitted | paper |\n|---|---|---|\n";
+        let l = &f.laws;
+        let p = |x: &dyn std::fmt::Debug| format!("{x:?}");
+        let row = |name: &str, fit: Option<String>, paper: String| {
+            format!("| {name} | {} | {paper} |\n", fit.unwrap_or("–".into()))
+        };
+        s += &row(
+            "p_m = a v² + b v + c (v ≤ 1)",
+            l.pm_quasi_static.as_ref().map(|f| p(&f.law)),
+            p(&PAPER_PM_QUASI_STATIC),
+        );
+        s += &row(
+            "p_m = a v^b + c (v ≥ 1)",
+            l.pm_dynamic.as_ref().map(|f| p(&f.law)),
+            p(&PAPER_PM_DYNAMIC),
+        );
+        s += &row(
+            "p_m = a v² + c (v ≥ 1)",
+            l.pm_dynamic_square.as_ref().map(|f| p(&f.law)),
+            p(&PAPER_PM_DYNAMIC_SQUARE),
+        );
+        s += &row(
+            "Δ = (v + a)^b + c",
+            l.delta.as_ref().map(|f| p(&f.law)),
+            p(&PAPER_DELTA),
+        );
+        let _ = writeln!(
+            s,
+            "\nThe paper's transition between the two regimes: v_crit ≈ {PAPER_V_CRIT} m/s.\n"
+        );
+    }
+    s
+}
+
+fn reference_series(name: &str, eq: &Eq13, color: u32) -> Series {
+    let points = (0..=60)
+        .map(|k| {
+            let p = 10f64.powf(1.0 + 6.0 * k as f64 / 60.0);
+            (p, eq.phi(p))
+        })
+        .collect();
+    Series::new(name, points, Style::Dashed).color(color)
+}
+
+fn curves_plot(f: &Family) -> Plot {
+    let mut plot = Plot::new(
+        format!("{} model, {} monomers: seed means", f.variant, f.monomers),
+        "pressure P [Pa]",
+        "filling factor φ",
+    );
+    plot.x_log = true;
+    for (k, g) in f.speeds.iter().enumerate() {
+        let points = g.average.iter().map(|a| (a.p, a.mean)).collect();
+        plot.series.push(
+            Series::new(format!("{} m/s", g.wall_speed), points, Style::Line)
+                .color(PALETTE[k % PALETTE.len()]),
+        );
+    }
+    plot.series.push(reference_series(
+        "Güttler et al. 2009",
+        &GUETTLER_2009_OMNI,
+        0x000000,
+    ));
+    plot.series.push(reference_series(
+        "Blum & Schräpler 2004",
+        &BLUM_SCHRAEPLER_2004_UNI,
+        0x777777,
+    ));
+    plot
+}
+
+fn law_series(name: &str, eval: impl Fn(f64) -> f64, from: f64, to: f64, color: u32) -> Series {
+    let points = (0..=50)
+        .map(|k| {
+            let v = from + (to - from) * k as f64 / 50.0;
+            (v, eval(v))
+        })
+        .collect();
+    Series::new(name, points, Style::Dashed).color(color)
+}
+
+fn pm_plot(f: &Family) -> Plot {
+    let Fitted {
+        v, pm, pm_err: err, ..
+    } = fitted(&f.speeds, |_| true);
+    let mut plot = Plot::new("p_m against wall speed", "wall speed v [m/s]", "p_m [kPa]");
+    let mut points = Series::new(
+        "this sweep (φ₁, φ₂ held)",
+        v.iter().copied().zip(pm).collect(),
+        Style::ErrorBars,
+    )
+    .color(PALETTE[0]);
+    points.sigma = err;
+    plot.series.push(points);
+    let top = v.iter().copied().fold(1.0, f64::max).max(1.0);
+    plot.series.push(law_series(
+        "paper, v ≤ 1",
+        |v| PAPER_PM_QUASI_STATIC.eval(v),
+        0.0,
+        1.0,
+        0x000000,
+    ));
+    plot.series.push(law_series(
+        "paper, v ≥ 1",
+        |v| PAPER_PM_DYNAMIC.eval(v),
+        1.0,
+        top,
+        0x777777,
+    ));
+    if let Some(l) = &f.laws.pm_dynamic_square {
+        let law = l.law;
+        plot.series.push(law_series(
+            "fit a v² + c",
+            move |v| law.eval(v),
+            1.0,
+            top,
+            PALETTE[1],
+        ));
+    }
+    plot
+}
+
+fn delta_plot(f: &Family) -> Plot {
+    let Fitted {
+        v,
+        delta,
+        delta_err: err,
+        ..
+    } = fitted(&f.speeds, |_| true);
+    let mut plot = Plot::new("Δ against wall speed", "wall speed v [m/s]", "Δ [decades]");
+    let mut points = Series::new(
+        "this sweep (φ₁, φ₂ held)",
+        v.iter().copied().zip(delta).collect(),
+        Style::ErrorBars,
+    )
+    .color(PALETTE[0]);
+    points.sigma = err;
+    plot.series.push(points);
+    let top = v.iter().copied().fold(1.0, f64::max).max(1.0);
+    plot.series.push(law_series(
+        "paper",
+        |v| PAPER_DELTA.eval(v),
+        0.0,
+        top,
+        0x000000,
+    ));
+    if let Some(l) = &f.laws.delta {
+        let law = l.law;
+        plot.series.push(law_series(
+            "fit (v + a)^b + c",
+            move |v| law.eval(v),
+            0.0,
+            top,
+            PALETTE[1],
+        ));
+    }
+    plot
+}
