@@ -57,8 +57,9 @@ pub fn apply_inelastic_limits(
 }
 
 /// Every pair contact's corrections and forces, owner by owner in parallel, into
-/// `workspace.pair_result` (one entry per slot). Returns what the corrections dissipated,
-/// summed per chunk of owners and then over chunks in order.
+/// `workspace.pair_result`: one entry per contact, the owners' contacts one after another
+/// (`workspace.incoming.owner_start`, which must describe the table). Returns what the
+/// corrections dissipated, summed per chunk of owners and then over chunks in order.
 pub fn forces_per_slot(
     law: &ContactLaw,
     dt: f64,
@@ -68,41 +69,50 @@ pub fn forces_per_slot(
 ) -> Dissipation {
     let slots = table.pair_slots;
     let n = monomers.len();
+    let owner_start = workspace.incoming.owner_start();
+    debug_assert_eq!(owner_start.len(), n + 1, "partner index out of date");
     workspace
         .pair_result
-        .resize(n * slots, PairResult::default());
+        .resize(owner_start[n] as usize, PairResult::default());
+    // Each chunk of owners writes its own contiguous stretch of results.
+    let mut stretches = Vec::with_capacity(n.div_ceil(CHUNK));
+    let mut rest = &mut workspace.pair_result[..];
+    for first in (0..n).step_by(CHUNK) {
+        let end = owner_start[(first + CHUNK).min(n)] - owner_start[first];
+        let (stretch, tail) = rest.split_at_mut(end as usize);
+        stretches.push(stretch);
+        rest = tail;
+    }
     let prefetching = worthwhile(table);
     let counts = &table.pair_count;
     let chunks: Vec<Dissipation> = table
         .pair
         .par_chunks_mut(CHUNK * slots)
-        .zip(workspace.pair_result.par_chunks_mut(CHUNK * slots))
+        .zip(stretches.into_par_iter())
         .with_min_len(split_len(n, CHUNK))
         .enumerate()
         .map(|(chunk, (rows, results))| {
             let mut tally = Dissipation::default();
             let first = chunk * CHUNK;
             let counts = &counts[first..(first + CHUNK).min(n)];
+            let mut out = results.iter_mut();
             for (k, &count) in counts.iter().enumerate() {
                 let i = first + k;
                 if prefetching {
                     prefetch_row_ahead(rows, slots, counts, k);
-                    prefetch_row_ahead(results, slots, counts, k);
                     prefetch_partners_ahead(rows, slots, counts, k, |j| {
                         prefetch_one(&monomers.position[j]);
                         prefetch_one(&monomers.velocity[j]);
                     });
                 }
-                let row = &mut rows[k * slots..(k + 1) * slots];
-                let out = &mut results[k * slots..(k + 1) * slots];
-                for (c, result) in row.iter_mut().zip(out.iter_mut()).take(count as usize) {
+                for c in &mut rows[k * slots..k * slots + count as usize] {
                     apply_inelastic_limits(law, monomers, dt, i, c, &mut tally);
                     let j = c.partner as usize;
                     let (x1, x2) = (monomers.position[i], monomers.position[j]);
                     let (v1, v2) = (monomers.velocity[i], monomers.velocity[j]);
                     let (force, damping, torque_owner, torque_partner) =
                         pair_interaction(law, x1, x2, v1, v2, c);
-                    *result = PairResult {
+                    *out.next().expect("a result per contact") = PairResult {
                         force,
                         damping,
                         torque_owner,
@@ -116,14 +126,13 @@ pub fn forces_per_slot(
     sum_in_order(&chunks)
 }
 
-/// Each monomer's force, damping force and torque from the per-slot results: the contacts it
-/// is the partner of (in owner and slot order), then its own slots. Overwrites the
-/// accumulators (the walls pass adds to them).
-pub fn gather_pair_forces(monomers: &mut Monomers, table: &ContactTable, workspace: &Workspace) {
-    let slots = table.pair_slots;
+/// Each monomer's force, damping force and torque from the per-contact results: the contacts
+/// it is the partner of (in owner and slot order), then its own. Overwrites the accumulators
+/// (the walls pass adds to them).
+pub fn gather_pair_forces(monomers: &mut Monomers, workspace: &Workspace) {
     let incoming = &workspace.incoming;
+    let owner_start = incoming.owner_start();
     let results = &workspace.pair_result;
-    let counts = &table.pair_count;
     each_accumulator(monomers, |i, force, damping, torque| {
         let (mut f, mut fd, mut t) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
         for &idx in incoming.of(i) {
@@ -132,7 +141,7 @@ pub fn gather_pair_forces(monomers: &mut Monomers, table: &ContactTable, workspa
             fd -= r.damping;
             t += r.torque_partner;
         }
-        for r in &results[i * slots..i * slots + counts[i] as usize] {
+        for r in &results[owner_start[i] as usize..owner_start[i + 1] as usize] {
             f += r.force;
             fd += r.damping;
             t += r.torque_owner;
@@ -143,7 +152,8 @@ pub fn gather_pair_forces(monomers: &mut Monomers, table: &ContactTable, workspa
     });
 }
 
-/// The pass: corrections and per-slot forces, the partner index, the gather. Adds what the
+/// The pass: the partner index (after contact events), corrections and per-contact forces,
+/// the gather. Adds what the
 /// corrections dissipated to `tally`.
 pub fn forces(
     law: &ContactLaw,
@@ -153,11 +163,11 @@ pub fn forces(
     tally: &mut Dissipation,
     workspace: &mut Workspace,
 ) {
-    let dissipated = forces_per_slot(law, dt, monomers, table, workspace);
     if !workspace.partner_index_current {
         workspace.incoming.rebuild(table);
         workspace.partner_index_current = true;
     }
-    gather_pair_forces(monomers, table, workspace);
+    let dissipated = forces_per_slot(law, dt, monomers, table, workspace);
+    gather_pair_forces(monomers, workspace);
     tally.add(&dissipated);
 }

@@ -53,6 +53,8 @@ impl Deref for CpuEngine {
 
 impl DerefMut for CpuEngine {
     fn deref_mut(&mut self) -> &mut State {
+        // The caller may change the contact table: index it again before the next forces.
+        self.workspace.partner_index_current = false;
         &mut self.state
     }
 }
