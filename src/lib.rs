@@ -17,6 +17,7 @@ pub mod job;
 pub mod material;
 pub mod model;
 pub mod output;
+pub mod reproduce;
 pub mod rng;
 pub mod sample;
 pub mod state;

@@ -168,6 +168,27 @@ pub(super) enum Command {
         #[arg(long, requires = "slurm")]
         mem_mb: Option<u64>,
     },
+    /// Reproduce the results of Seizinger et al. (2012): quasi-static and dynamic
+    /// omnidirectional and unidirectional sweeps, analysed and gathered into
+    /// OUT/REPRODUCTION.md beside the paper's numbers. Running it again resumes the sweeps.
+    Reproduce {
+        /// smoke (a minute, tests the pipeline), quick (about an hour on two cores, scaled-down
+        /// samples) or full (the paper's sizes and six seeds: a GPU or a cluster).
+        #[arg(long, value_enum, default_value = "quick")]
+        tier: crate::reproduce::Tier,
+        #[arg(long, default_value = "reproduction")]
+        out: PathBuf,
+        /// Cases at once in each sweep (1 to 1024; default: the logical CPUs).
+        #[arg(long)]
+        jobs: Option<usize>,
+        /// Write the three sweeps' Slurm job arrays instead of running (then, once they ran:
+        /// `dustdem reproduce --report-only` with the same --tier and --out).
+        #[arg(long, conflicts_with = "report_only")]
+        slurm: bool,
+        /// Only collect and analyse the sweeps' results and write REPRODUCTION.md.
+        #[arg(long)]
+        report_only: bool,
+    },
     /// Write measured-like data from the simulator, with effects switched on and noise added.
     Synth {
         /// Base config (sample size, wall speed, time step, model).

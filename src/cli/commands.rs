@@ -491,3 +491,33 @@ pub(super) fn sweep_analyze(dir: &Path) -> Result<(), String> {
     println!("wrote {}", report.display());
     Ok(())
 }
+
+/// `dustdem reproduce`: runs (or submits, or reports) a tier of the paper's results.
+pub(super) fn reproduce(
+    tier: crate::reproduce::Tier,
+    out: PathBuf,
+    jobs: Option<usize>,
+    slurm: bool,
+    report_only: bool,
+) -> Result<(), String> {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let request = crate::reproduce::Request {
+        tier,
+        out,
+        jobs: in_range("--jobs", jobs.unwrap_or(cores), 1, 1024)?,
+        slurm,
+        report_only,
+    };
+    let path = crate::reproduce::reproduce(&request)?;
+    if slurm {
+        println!(
+            "wrote the job arrays under {}; submit each <study>/runs/sweep.sbatch with sbatch, \
+             then run: dustdem reproduce --tier {tier} --out {} --report-only",
+            path.display(),
+            request.out.display()
+        );
+    } else {
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}

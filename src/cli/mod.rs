@@ -10,7 +10,8 @@ use crate::job::{Backend, PrivateRuntimeDir};
 use args::{Cli, Command, SweepAction};
 use clap::Parser;
 use commands::{
-    bench, calibrate, fit, generate, info, resume, run, sweep, sweep_analyze, sweep_collect, synth,
+    bench, calibrate, fit, generate, info, reproduce, resume, run, sweep, sweep_analyze,
+    sweep_collect, synth,
 };
 use std::process::ExitCode;
 
@@ -83,6 +84,13 @@ pub fn main() -> ExitCode {
             action: Some(SweepAction::Analyze { dir }),
             ..
         } => sweep_analyze(&dir),
+        Command::Reproduce {
+            tier,
+            out,
+            jobs,
+            slurm,
+            report_only,
+        } => reproduce(tier, out, jobs, slurm, report_only),
         Command::Sweep {
             action: None,
             sweep: file,
