@@ -73,7 +73,9 @@ fn the_smoke_tier_writes_a_report_of_every_study_and_resumes() {
         assert!(out.join(target).is_file(), "missing figure {target}");
         figures += 1;
     }
-    assert_eq!(figures, 2 + 3 + 2);
+    // Quasi-static: one curve figure per model; dynamic: curves, p_m(v), Δ(v) and the
+    // profiles of each of its two speeds; uni: one per model.
+    assert_eq!(figures, 2 + 3 + 2 + 2);
     for study in ["quasi_static", "dynamic", "uni"] {
         assert!(out.join(study).join("runs/analysis.md").is_file());
     }

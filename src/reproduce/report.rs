@@ -4,7 +4,9 @@
 use super::{Request, Study, StudyKind, Tier};
 use crate::analysis::fit::Eq13;
 use crate::job::figure::{BLUM_SCHRAEPLER_2004_UNI, GUETTLER_2009_OMNI};
-use crate::sweep::analyze::{analyze_cases, rms_against, CaseData, Family};
+use crate::sweep::analyze::{
+    analyze_cases, first_seeds, profile_figure_name, rms_against, CaseData, Family,
+};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -207,6 +209,20 @@ pub fn markdown(request: &Request, studies: &[Analysed]) -> String {
                     figure(&mut s, a, &base, "phi_p", f);
                     figure(&mut s, a, &base, "pm_v", f);
                     figure(&mut s, a, &base, "delta_v", f);
+                }
+                s += "Filling-factor profiles of the first seed at six times each, with the \
+                      compaction front (dotted, where found: the lowest height where φ exceeds \
+                      the initial profile by 0.05):\n\n";
+                for c in first_seeds(&a.cases) {
+                    let path = a.runs.join(profile_figure_name(c));
+                    if path.is_file() {
+                        let _ = writeln!(
+                            s,
+                            "![profiles at {} m/s]({})\n",
+                            c.wall_speed,
+                            relative(&path, &base)
+                        );
+                    }
                 }
             }
             StudyKind::Uni => {

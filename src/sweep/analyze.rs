@@ -8,7 +8,7 @@
 use super::collect::collect;
 use crate::analysis::average::{average_on_log_grid, spread, AveragePoint, Spread};
 use crate::analysis::fit::{Eq13, FitResult};
-use crate::analysis::front::{run_front_speed, FrontOptions};
+use crate::analysis::front::{front_heights, run_front_speed, FrontOptions};
 use crate::analysis::per_speed::{fit_speed, SpeedFit, GUETTLER_PHI1, GUETTLER_PHI2};
 use crate::analysis::regimes::{find_regimes, RegimeOptions, Regimes};
 use crate::analysis::run_files::{
@@ -266,6 +266,15 @@ pub fn analyze_dir(dir: &Path) -> Result<PathBuf, String> {
             panels.push(plot);
         }
     }
+    // Profiles of the first seed of each dynamic speed, with the front.
+    for c in first_seeds(&cases) {
+        if let Some(plot) = profiles_plot(&dir.join(&c.name), c) {
+            let name = profile_figure_name(c);
+            plot.save(dir.join(&name))
+                .map_err(|e| format!("{}: {e}", dir.join(&name).display()))?;
+            panels.push(plot);
+        }
+    }
     // One PNG per family row would be nicer; one strip keeps the file count small.
     let png = panels_png(&panels)?;
     write_atomic(&dir.join("analysis.png"), &png).map_err(|e| format!("analysis.png: {e}"))?;
@@ -491,4 +500,67 @@ fn delta_plot(f: &Family) -> Plot {
         ));
     }
     plot
+}
+
+/// The case of the lowest seed of each dynamic (variant, size, speed).
+pub fn first_seeds(cases: &[CaseData]) -> Vec<&CaseData> {
+    let mut first: BTreeMap<(String, usize, u64), &CaseData> = BTreeMap::new();
+    for c in cases.iter().filter(|c| c.wall_speed >= DYNAMIC_FROM) {
+        let key = (c.variant.clone(), c.monomers, c.wall_speed.to_bits());
+        let entry = first.entry(key).or_insert(c);
+        if c.seed < entry.seed {
+            *entry = c;
+        }
+    }
+    first.into_values().collect()
+}
+
+/// File name of the profile figure of a case.
+pub fn profile_figure_name(c: &CaseData) -> String {
+    format!(
+        "profiles_v{}_{}_n{}.svg",
+        c.wall_speed, c.variant, c.monomers
+    )
+}
+
+/// φ against height at six times of one run, each with its front (dotted) where found: the
+/// dense layer under the wall and how it moves down.
+fn profiles_plot(case_dir: &Path, c: &CaseData) -> Option<Plot> {
+    let mut profiles = read_profiles(case_dir.join("profiles.csv")).ok()?;
+    if let Ok(table) = read_curve_table(case_dir.join("curve.csv")) {
+        attach_wall_heights(&mut profiles, &table);
+    }
+    if profiles.len() < 2 {
+        return None;
+    }
+    let fronts = front_heights(&profiles, &FrontOptions::default());
+    let mut plot = Plot::new(
+        format!("{} m/s, seed {}: profiles", c.wall_speed, c.seed),
+        "height z [µm]",
+        "filling factor φ",
+    );
+    plot.y_range = Some((0.0, 0.8));
+    let picks: Vec<usize> = (0..6).map(|k| k * (profiles.len() - 1) / 5).collect();
+    for (n, &k) in picks.iter().enumerate() {
+        let p = &profiles[k];
+        let color = PALETTE[n % PALETTE.len()];
+        let points = p
+            .z_m
+            .iter()
+            .zip(&p.phi)
+            .map(|(z, phi)| (z * 1e6, *phi))
+            .collect();
+        plot.series.push(
+            Series::new(format!("t = {:.2} µs", p.time_s * 1e6), points, Style::Line).color(color),
+        );
+        if let Some(f) = fronts
+            .iter()
+            .find(|f| f.time_s == p.time_s && !f.reached_bottom)
+        {
+            let z = f.front_m * 1e6;
+            plot.series
+                .push(Series::new("", vec![(z, 0.0), (z, 0.8)], Style::Dashed).color(color));
+        }
+    }
+    Some(plot)
 }
