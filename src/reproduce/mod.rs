@@ -10,6 +10,7 @@ mod tiers;
 pub use tiers::{Study, StudyKind, Tier};
 
 use crate::sweep::analyze::{analyze_dir, read_cases};
+use crate::sweep::collect::collect;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
@@ -92,11 +93,17 @@ pub fn reproduce(request: &Request) -> Result<PathBuf, String> {
         let runs = out.join(study.name).join("runs");
         analyze_dir(&runs)?;
         let (cases, _) = read_cases(&runs)?;
+        let case_seconds = collect(&runs)?
+            .rows
+            .iter()
+            .filter_map(|r| r.record.as_ref().map(|c| c.wall_clock_s))
+            .collect();
         analysed.push(report::Analysed {
             study,
             runs,
             cases,
             seconds,
+            case_seconds,
         });
     }
     let path = out.join("REPRODUCTION.md");

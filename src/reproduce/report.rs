@@ -17,6 +17,9 @@ pub struct Analysed {
     pub cases: Vec<CaseData>,
     /// Wall-clock seconds of its sweep in this call (None: run earlier, e.g. by Slurm).
     pub seconds: Option<f64>,
+    /// Wall-clock seconds of each case's attempts (from the cases' status files), whenever
+    /// they ran.
+    pub case_seconds: Vec<f64>,
 }
 
 /// Pressures at which the measured curves' φ is listed beside ours [Pa].
@@ -61,13 +64,24 @@ fn header(s: &mut String, a: &Analysed, base: &Path) {
     let st = &a.study;
     let time = a
         .seconds
-        .map_or("run earlier (not timed here)".into(), |t| {
-            format!("{t:.0} s wall-clock")
+        .map_or("not run in this call (run earlier)".into(), |t| {
+            format!("{t:.0} s wall-clock in this call")
         });
+    let cases = &a.case_seconds;
+    let case_time = if cases.is_empty() {
+        String::new()
+    } else {
+        let lo = cases.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = cases.iter().copied().fold(0.0, f64::max);
+        format!(
+            " The cases took {:.0} s in all ({lo:.0}–{hi:.0} s each).",
+            cases.iter().sum::<f64>()
+        )
+    };
     let _ = writeln!(
         s,
-        "{n} monomers, wall speeds {v:?} m/s, seeds {seeds:?}, models: {models}; {time}. Runs \
-         and the full analysis: `{runs}/` (`analysis.md`, figures).\n",
+        "{n} monomers, wall speeds {v:?} m/s, seeds {seeds:?}, models: {models}; {time}.\
+         {case_time} Runs and the full analysis: `{runs}/` (`analysis.md`, figures).\n",
         n = st.monomers,
         v = st.speeds,
         seeds = st.seeds,

@@ -63,7 +63,7 @@ impl Tier {
         let (slow, dynamic_speeds, uni_speed) = match self {
             Tier::Smoke => (vec![1.0], vec![2.0, 5.0], 1.0),
             // 5 cm/s is the slowest that two cores finish in the hour with the rest.
-            Tier::Quick => (vec![0.05], vec![1.0, 2.5, 5.0, 10.0, 15.0], 0.05),
+            Tier::Quick => (vec![0.05], vec![1.0, 2.5, 5.0, 10.0, 15.0], 0.1),
             Tier::Full => (
                 vec![0.01, 0.05],
                 vec![1.0, 2.5, 5.0, 7.5, 10.0, 15.0, 20.0, 25.0],
