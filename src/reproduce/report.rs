@@ -157,7 +157,7 @@ fn limits(tier: Tier) -> &'static str {
              (paper: 40 000) give a sample of about 30 µm height, about 25 slabs, in which the \
              compaction front crosses a few slabs before it reaches the bottom: v_p rests on \
              few profiles. The unidirectional cylinder of 1000 monomers (paper: 18 000) has a \
-             large free surface for its volume. The full tier (`--tier full`, for a GPU or a \
+             large free surface for its volume, and runs at 10 cm/s (paper: 5 cm/s). The full tier (`--tier full`, for a GPU or a \
              cluster with `--slurm`) uses the paper's sizes."
         }
         Tier::Full => "The paper's sizes and six seeds per case.",
