@@ -62,11 +62,9 @@ fn mean_phi_at(f: &Family, speed: f64, p: f64) -> Option<f64> {
 
 fn header(s: &mut String, a: &Analysed, base: &Path) {
     let st = &a.study;
-    let time = a
-        .seconds
-        .map_or("not run in this call (run earlier)".into(), |t| {
-            format!("{t:.0} s wall-clock in this call")
-        });
+    let time = a.seconds.map_or("not timed in this call".into(), |t| {
+        format!("{t:.0} s wall-clock in this call")
+    });
     let cases = &a.case_seconds;
     let case_time = if cases.is_empty() {
         String::new()
