@@ -11,7 +11,7 @@
 #[cfg(test)]
 mod tests;
 
-use crate::calibrate::simulate::Envelope;
+use super::envelope::Envelope;
 
 /// One grid pressure of an average.
 #[derive(Clone, Copy, Debug, PartialEq)]
