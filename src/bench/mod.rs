@@ -418,7 +418,7 @@ fn add_passes(sum: &mut Vec<f64>, seconds: &[f64], steps: u64) {
 }
 
 /// "AMD EPYC …, 2 logical CPUs" from /proc/cpuinfo where there is one.
-fn host() -> String {
+pub fn host() -> String {
     let model = std::fs::read_to_string("/proc/cpuinfo")
         .ok()
         .and_then(|text| {

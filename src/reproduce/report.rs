@@ -25,20 +25,6 @@ pub struct Analysed {
 /// Pressures at which the measured curves' φ is listed beside ours [Pa].
 const LISTED_PRESSURES: [f64; 4] = [1e2, 1e3, 1e4, 1e5];
 
-fn machine() -> String {
-    let model = std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|t| {
-            t.lines()
-                .find(|l| l.starts_with("model name"))
-                .and_then(|l| l.split(':').nth(1))
-                .map(|m| m.trim().to_string())
-        })
-        .unwrap_or_else(|| "unknown CPU".into());
-    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
-    format!("{model}, {cores} logical CPUs")
-}
-
 fn relative(path: &Path, base: &Path) -> String {
     path.strip_prefix(base)
         .unwrap_or(path)
@@ -178,7 +164,7 @@ pub fn markdown(request: &Request, studies: &[Analysed]) -> String {
         request.out.display(),
         request.jobs,
         env!("CARGO_PKG_VERSION"),
-        machine()
+        crate::bench::host()
     );
     for a in studies {
         let families = analyze_cases(&a.cases);

@@ -424,20 +424,26 @@ fn law_series(name: &str, eval: impl Fn(f64) -> f64, from: f64, to: f64, color: 
     Series::new(name, points, Style::Dashed).color(color)
 }
 
-fn pm_plot(f: &Family) -> Plot {
-    let Fitted {
-        v, pm, pm_err: err, ..
-    } = fitted(&f.speeds, |_| true);
-    let mut plot = Plot::new("p_m against wall speed", "wall speed v [m/s]", "p_m [kPa]");
+/// A plot of fitted values against wall speed with their errors, and the largest speed (at
+/// least 1 m/s) for the laws drawn over it.
+fn speed_plot(title: &str, y_label: &str, v: &[f64], y: Vec<f64>, err: Vec<f64>) -> (Plot, f64) {
+    let mut plot = Plot::new(title, "wall speed v [m/s]", y_label);
     let mut points = Series::new(
         "this sweep (φ₁, φ₂ held)",
-        v.iter().copied().zip(pm).collect(),
+        v.iter().copied().zip(y).collect(),
         Style::ErrorBars,
     )
     .color(PALETTE[0]);
     points.sigma = err;
     plot.series.push(points);
-    let top = v.iter().copied().fold(1.0, f64::max).max(1.0);
+    (plot, v.iter().copied().fold(1.0, f64::max))
+}
+
+fn pm_plot(f: &Family) -> Plot {
+    let Fitted {
+        v, pm, pm_err: err, ..
+    } = fitted(&f.speeds, |_| true);
+    let (mut plot, top) = speed_plot("p_m against wall speed", "p_m [kPa]", &v, pm, err);
     plot.series.push(law_series(
         "paper, v ≤ 1",
         |v| PAPER_PM_QUASI_STATIC.eval(v),
@@ -472,16 +478,7 @@ fn delta_plot(f: &Family) -> Plot {
         delta_err: err,
         ..
     } = fitted(&f.speeds, |_| true);
-    let mut plot = Plot::new("Δ against wall speed", "wall speed v [m/s]", "Δ [decades]");
-    let mut points = Series::new(
-        "this sweep (φ₁, φ₂ held)",
-        v.iter().copied().zip(delta).collect(),
-        Style::ErrorBars,
-    )
-    .color(PALETTE[0]);
-    points.sigma = err;
-    plot.series.push(points);
-    let top = v.iter().copied().fold(1.0, f64::max).max(1.0);
+    let (mut plot, top) = speed_plot("Δ against wall speed", "Δ [decades]", &v, delta, err);
     plot.series.push(law_series(
         "paper",
         |v| PAPER_DELTA.eval(v),
