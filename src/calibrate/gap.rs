@@ -181,17 +181,34 @@ impl Gap {
     }
 }
 
-/// The gap of `predictions` (compression curves first, then sticking, as in `m`).
-pub fn gap(m: &MeasuredSet, predictions: &[Prediction]) -> Gap {
+/// The noise of one compared point, in its two parts: the simulation's (sample-to-sample
+/// scatter over the seeds, or the sticking bisection's half-width) and the measurement's,
+/// both as variances.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointNoise {
+    pub simulated: f64,
+    pub measured: f64,
+}
+
+impl PointNoise {
+    pub fn sigma(self) -> f64 {
+        (self.simulated + self.measured).sqrt()
+    }
+
+    /// The variance if the simulation's part were `simulated` times and the measurement's
+    /// `measured` times what it is (what-if: more seeds, a tighter measurement).
+    pub fn scaled_variance(self, simulated: f64, measured: f64) -> f64 {
+        simulated * self.simulated + measured * self.measured
+    }
+}
+
+/// Per curve of `m` (compression first, then sticking) and per compared point: the noise of
+/// comparing `predictions` with the data.
+pub fn noise(m: &MeasuredSet, predictions: &[Prediction]) -> Vec<Vec<PointNoise>> {
     let targets = targets(m);
-    let mut curves = Vec::new();
+    let mut all = Vec::new();
     for ((curve, p), prediction) in m.compression.iter().zip(&targets).zip(predictions) {
-        let Prediction::Compression {
-            phi,
-            scatter,
-            seeds,
-        } = prediction
-        else {
+        let Prediction::Compression { scatter, seeds, .. } = prediction else {
             panic!("prediction order")
         };
         // Per-pressure scatter of a few seeds is itself noisy: shrink it halfway towards the
@@ -199,13 +216,89 @@ pub fn gap(m: &MeasuredSet, predictions: &[Prediction]) -> Gap {
         let finite: Vec<f64> = scatter.iter().copied().filter(|s| s.is_finite()).collect();
         let pooled =
             (finite.iter().map(|s| s * s).sum::<f64>() / finite.len().max(1) as f64).sqrt();
+        all.push(
+            p.iter()
+                .enumerate()
+                .map(|(k, &pk)| {
+                    let (_, measured_sigma) = curve.at(pk);
+                    let s2 = 0.5 * (scatter[k].powi(2) + pooled * pooled);
+                    PointNoise {
+                        simulated: s2 / *seeds as f64,
+                        measured: measured_sigma * measured_sigma,
+                    }
+                })
+                .collect(),
+        );
+    }
+    for (s, prediction) in m.sticking.iter().zip(&predictions[m.compression.len()..]) {
+        let Prediction::Sticking { resolution, .. } = prediction else {
+            panic!("prediction order")
+        };
+        all.push(vec![PointNoise {
+            simulated: resolution * resolution,
+            measured: s.sigma * s.sigma,
+        }]);
+    }
+    all
+}
+
+/// The simulated values of every curve at its compared points (φ at the target pressures,
+/// or the sticking velocity in m/s).
+pub fn values(prediction: &Prediction) -> Vec<f64> {
+    match prediction {
+        Prediction::Compression { phi, .. } => phi.clone(),
+        Prediction::Sticking { velocity, .. } => vec![*velocity],
+    }
+}
+
+/// Per curve: how far `changed` lies from `reference` in units of the noise of comparing
+/// `reference` with the data, mean of (Δ/σ)² over the points both cover (the χ² that data made
+/// by `changed` would show against `reference`, noise aside). `scale` multiplies the
+/// simulation's and the measurement's noise variance (1, 1 for the data as they are). A curve
+/// neither covers counts as 0.
+pub fn shift_chi2(
+    m: &MeasuredSet,
+    reference: &[Prediction],
+    changed: &[Prediction],
+    scale: (f64, f64),
+) -> Vec<f64> {
+    noise(m, reference)
+        .iter()
+        .zip(reference.iter().zip(changed))
+        .map(|(noise, (r, c))| {
+            let (r, c) = (values(r), values(c));
+            let terms: Vec<f64> = noise
+                .iter()
+                .zip(r.iter().zip(&c))
+                .filter(|(_, (a, b))| a.is_finite() && b.is_finite())
+                .map(|(n, (a, b))| (b - a).powi(2) / n.scaled_variance(scale.0, scale.1))
+                .collect();
+            terms.iter().sum::<f64>() / terms.len().max(1) as f64
+        })
+        .collect()
+}
+
+/// The gap of `predictions` (compression curves first, then sticking, as in `m`).
+pub fn gap(m: &MeasuredSet, predictions: &[Prediction]) -> Gap {
+    let targets = targets(m);
+    let noise = noise(m, predictions);
+    let mut curves = Vec::new();
+    for (((curve, p), prediction), noise) in m
+        .compression
+        .iter()
+        .zip(&targets)
+        .zip(predictions)
+        .zip(&noise)
+    {
+        let Prediction::Compression { phi, .. } = prediction else {
+            panic!("prediction order")
+        };
         let mut residual = Vec::new();
         let mut sigma = Vec::new();
         for (k, &pk) in p.iter().enumerate() {
-            let (measured, measured_sigma) = curve.at(pk);
-            let s2 = 0.5 * (scatter[k].powi(2) + pooled * pooled);
+            let (measured, _) = curve.at(pk);
             residual.push(phi[k] - measured);
-            sigma.push((s2 / *seeds as f64 + measured_sigma * measured_sigma).sqrt());
+            sigma.push(noise[k].sigma());
         }
         let bands = (0..3)
             .map(|b| {
@@ -226,15 +319,17 @@ pub fn gap(m: &MeasuredSet, predictions: &[Prediction]) -> Gap {
             .collect();
         curves.push(summarise(&curve.name, residual, sigma, bands));
     }
-    for (s, prediction) in m.sticking.iter().zip(&predictions[m.compression.len()..]) {
-        let Prediction::Sticking {
-            velocity,
-            resolution,
-        } = prediction
-        else {
+    let n_comp = m.compression.len();
+    for ((s, prediction), noise) in m
+        .sticking
+        .iter()
+        .zip(&predictions[n_comp..])
+        .zip(&noise[n_comp..])
+    {
+        let Prediction::Sticking { velocity, .. } = prediction else {
             panic!("prediction order")
         };
-        let sigma = (s.sigma * s.sigma + resolution * resolution).sqrt();
+        let sigma = noise[0].sigma();
         // Sticking too slowly means too little loss: the same direction as "too soft".
         let residual = s.velocity - velocity;
         let mut g = summarise(&s.name, vec![residual], vec![sigma], Vec::new());

@@ -25,6 +25,43 @@ pub use workflow::{calibrate, Calibration, Settings};
 use crate::config::{Config, ConfigError};
 use std::path::{Path, PathBuf};
 
+fn load_measured(measured_paths: &[PathBuf]) -> Result<(MeasuredSet, String), String> {
+    let sets = measured_paths
+        .iter()
+        .map(|p| MeasuredSet::load(p).map_err(|e| e.to_string()))
+        .collect::<Result<Vec<_>, _>>()?;
+    if sets.is_empty() {
+        return Err("calibrate needs at least one --measured file".into());
+    }
+    let label = measured_paths
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect::<Vec<_>>()
+        .join(", ");
+    Ok((MeasuredSet::merge(sets), label))
+}
+
+/// `dustdem calibrate --plan`: the detection limits of the (planned) data under the config's
+/// system size; writes plan.md into `out` and returns the summary lines and the file.
+pub fn run_plan(
+    measured_paths: &[PathBuf],
+    config_path: &Path,
+    out: &Path,
+    settings: &Settings,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<(Vec<String>, Vec<PathBuf>), String> {
+    let (measured, label) = load_measured(measured_paths)?;
+    let config = Config::load(config_path).map_err(|e| e.to_string())?;
+    let plan = workflow::plan(&measured, &config, settings, &RunCache::new(), progress)?;
+    let file = report::write_plan(&plan, out, &label, config_path)?;
+    let lines = plan
+        .detection
+        .iter()
+        .map(workflow::describe_limit)
+        .collect();
+    Ok((lines, vec![file]))
+}
+
 /// `dustdem calibrate`: loads the measured files (their curves are fitted jointly) and the
 /// config, calibrates, writes the report into `out` and returns the summary lines and the
 /// files written.
@@ -35,19 +72,7 @@ pub fn run_calibration(
     settings: &Settings,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<(Vec<String>, Vec<PathBuf>), String> {
-    let sets = measured_paths
-        .iter()
-        .map(|p| MeasuredSet::load(p).map_err(|e| e.to_string()))
-        .collect::<Result<Vec<_>, _>>()?;
-    if sets.is_empty() {
-        return Err("calibrate needs at least one --measured file".into());
-    }
-    let measured = MeasuredSet::merge(sets);
-    let label = measured_paths
-        .iter()
-        .map(|p| p.display().to_string())
-        .collect::<Vec<_>>()
-        .join(", ");
+    let (measured, label) = load_measured(measured_paths)?;
     let config = Config::load(config_path).map_err(|e| e.to_string())?;
     let cache = RunCache::new();
     let cal = calibrate(&measured, &config, settings, &cache, progress)?;
@@ -67,6 +92,14 @@ pub fn run_calibration(
             factor,
             effect.describe_value(&cal.base, *factor)
         ));
+    }
+    if cal.applied.is_empty() {
+        lines.push(
+            "no effect applied; these data would have shown (detection limits at 95%):".into(),
+        );
+        if let Some(first) = cal.rounds.first() {
+            lines.extend(first.detection.iter().map(workflow::describe_limit));
+        }
     }
     let (before, after) = (cal.baseline_gap(), cal.final_gap());
     lines.push(format!(

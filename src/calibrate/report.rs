@@ -2,10 +2,11 @@
 //! decision), `calibration.png` and one SVG per compression curve (measured vs baseline vs
 //! corrected), and `corrected.toml` (the config with the named effects applied).
 
-use super::attribution::Decision;
+use super::attribution::{Decision, DetectionLimit, EffectFit, PREDICTION_LIMIT};
+use super::effects::Effect;
 use super::figures::plot_panels;
 use super::gap::{chi2_quantile_95, CurveGap, Gap};
-use super::workflow::{describe_decision, Calibration};
+use super::workflow::{describe_decision, limit_text, Calibration, Round};
 use crate::output::atomic::write_atomic;
 use crate::output::plot::panels_png;
 use std::fmt::Write as _;
@@ -247,6 +248,16 @@ pub fn markdown(cal: &Calibration, measured: &str, config_path: &Path) -> String
         s.push_str("Where (Δφ > 0: the simulated sample is denser at that pressure, i.e. the model is too soft):\n\n");
         where_table(&mut s, cal.baseline_gap());
     }
+    if nothing_named(cal) {
+        s.push_str(
+            "## What these data could not have seen\n\nNo effect was named. That does not show \
+             the model is right: the table below gives, per effect, the smallest change these \
+             data would have shown at 95%. A change inside those limits passes as noise.\n\n",
+        );
+        if let Some(first) = cal.rounds.first() {
+            detection_rows(&mut s, &first.detection);
+        }
+    }
     for (k, round) in cal.rounds.iter().enumerate() {
         let _ = writeln!(s, "## Round {}\n", k + 1);
         if !round.fits.is_empty() {
@@ -264,8 +275,11 @@ pub fn markdown(cal: &Calibration, measured: &str, config_path: &Path) -> String
                     "| {} | {} | {}{} | {} – {} | {} | {:.2} | {:.1}% | {:.3} | {:.1} / {:.1} | {} |",
                     f.effect.name(),
                     f.effect.kind().name(),
+                    match &f.bound {
+                        None => String::new(),
+                        Some(b) => (if b.upper { "≥ " } else { "≤ " }).to_string(),
+                    },
                     fmt_factor(f.factor),
-                    if f.at_range_end { " (range end)" } else { "" },
                     fmt_factor(f.interval.0),
                     fmt_factor(f.interval.1),
                     f.effect.describe_value(&current, f.factor),
@@ -283,7 +297,17 @@ pub fn markdown(cal: &Calibration, measured: &str, config_path: &Path) -> String
             }
             s.push('\n');
         }
+        if let Some(single) = &round.single {
+            single_observable_text(&mut s, single);
+        }
+        held_out_table(&mut s, round);
         let _ = writeln!(s, "**Decision:** {}.\n", describe_decision(&round.decision));
+        if let Some(effect) = round.decision.chosen() {
+            if let Some(f) = round.fits.iter().find(|f| f.effect == effect) {
+                chosen_text(&mut s, f, &round.fits, &round_base(cal, k));
+            }
+        }
+        detection_table(&mut s, round, k == 0 && nothing_named(cal));
         if let (Some((effect, factor)), Some(after)) = (round.applied, &round.gap_after) {
             let _ = writeln!(
                 s,
@@ -355,6 +379,214 @@ pub fn markdown(cal: &Calibration, measured: &str, config_path: &Path) -> String
         "\nCorrected config: `{CORRECTED_FILE}`.\n\n![measured, baseline and corrected]({PLOT_FILE})"
     );
     s
+}
+
+/// No effect was applied: the data were within noise or nothing explained them.
+fn nothing_named(cal: &Calibration) -> bool {
+    cal.applied.is_empty()
+}
+
+pub const PLAN_FILE: &str = "plan.md";
+
+/// The plan's report: the system, the data's curves and noise, and the detection limits.
+pub fn plan_markdown(plan: &super::workflow::Plan, measured: &str, config_path: &Path) -> String {
+    let c = &plan.base;
+    let mut s = String::from("# Calibration plan\n\n");
+    let _ = writeln!(s, "- planned data: `{measured}`");
+    let _ = writeln!(s, "- base config: `{}`", config_path.display());
+    let _ = writeln!(
+        s,
+        "- simulations: {} RBD monomers per sample, seeds {:?}, wall at {} m/s, dt {} ns; {} runs\n",
+        c.sample.monomers,
+        plan.settings.seeds,
+        c.experiment.wall_speed_m_s,
+        c.integration.dt_ns,
+        plan.runs
+    );
+    s.push_str(
+        "The smallest change of each effect these data would show at 95%, from the baseline \
+         and a screen of every effect at the ends of its range (the measured φ values do not \
+         enter, only the pressures, the uncertainties and which curves there are):\n\n",
+    );
+    detection_rows(&mut s, &plan.detection);
+    s.push_str("Noise per curve at the baseline:\n\n| curve | RMS noise |\n|---|---|\n");
+    for curve in &plan.baseline.curves {
+        let _ = writeln!(s, "| {} | {:.4} |", curve.name, curve.noise);
+    }
+    s
+}
+
+/// Writes `plan.md` into `out`.
+pub fn write_plan(
+    plan: &super::workflow::Plan,
+    out: &Path,
+    measured: &str,
+    config_path: &Path,
+) -> Result<PathBuf, String> {
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let path = out.join(PLAN_FILE);
+    write_atomic(&path, plan_markdown(plan, measured, config_path).as_bytes())
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(path)
+}
+
+fn detection_rows(s: &mut String, limits: &[DetectionLimit]) {
+    s.push_str(
+        "| effect | shown below | shown above | with 4× the samples | with the measured σ halved | noise from the simulated samples |\n\
+         |---|---|---|---|---|---|\n",
+    );
+    for d in limits {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} / {} | {} / {} | {:.0}% |",
+            d.effect.name(),
+            limit_text(d.lower, d.searched.0),
+            limit_text(d.upper, d.searched.1),
+            limit_text(d.lower_4x_samples, d.searched.0),
+            limit_text(d.upper_4x_samples, d.searched.1),
+            limit_text(d.lower_half_sigma, d.searched.0),
+            limit_text(d.upper_half_sigma, d.searched.1),
+            100.0 * d.simulated_share
+        );
+    }
+    s.push_str(
+        "\nA factor is shown when the model against data made with it would pass the 95% \
+         noise threshold of chi2 (noise at its expected value); found on the screened points, \
+         linear in ln factor. To lower a limit: more samples per curve (or more monomers per \
+         sample, about as much per factor) where the simulated samples carry the noise, a \
+         tighter measurement where it does, or another kind of curve (each curve counts as one \
+         degree of freedom, so more points on the same curve do not help).\n\n",
+    );
+}
+
+fn detection_table(s: &mut String, round: &Round, already_shown: bool) {
+    if round.detection.is_empty() || already_shown {
+        return;
+    }
+    s.push_str("Detection limits of these data (smallest factor each way shown at 95%):\n\n");
+    detection_rows(s, &round.detection);
+}
+
+fn single_observable_text(s: &mut String, single: &super::attribution::SingleObservable) {
+    let names = |v: &[Effect]| {
+        if v.is_empty() {
+            "none".to_string()
+        } else {
+            v.iter().map(|e| e.name()).collect::<Vec<_>>().join(", ")
+        }
+    };
+    let _ = writeln!(
+        s,
+        "**The signal rests on one observable:** only {} is beyond noise. Whatever moves it \
+         explains these data as well: in the library, {} (within their searched ranges); not in \
+         the library, {}. Confidences count each of the latter as one equally good explanation.\n",
+        single.curve,
+        names(&single.library),
+        single.outside.join(", ")
+    );
+}
+
+fn held_out_table(s: &mut String, round: &Round) {
+    let fits: Vec<&EffectFit> = round
+        .fits
+        .iter()
+        .filter(|f| !f.held_out.is_empty())
+        .take(3)
+        .collect();
+    if fits.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        s,
+        "Leave one curve out: each of the best fits refitted without one curve, and that \
+         curve's chi2 at the refitted factor (predicted: below {PREDICTION_LIMIT}, the 99% limit \
+         of one degree).\n\n| effect | left out | factor without it | chi2 of the left-out curve | predicted |\n|---|---|---|---|---|"
+    );
+    for f in fits {
+        for h in &f.held_out {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {:.2} | {} |",
+                f.effect.name(),
+                h.curve,
+                fmt_factor(h.factor),
+                h.chi2,
+                if h.predicted { "yes" } else { "**no**" }
+            );
+        }
+        let fails = f.failed_predictions();
+        if !fails.is_empty() {
+            let fitted: Vec<&str> = f
+                .held_out
+                .iter()
+                .filter(|h| h.predicted)
+                .map(|h| h.curve.as_str())
+                .collect();
+            let _ = writeln!(
+                s,
+                "| {} | fits {}, does not predict {} | | | |",
+                f.effect.name(),
+                if fitted.is_empty() {
+                    "the curves jointly".to_string()
+                } else {
+                    fitted.join(", ")
+                },
+                fails.join(", ")
+            );
+        }
+    }
+    s.push('\n');
+}
+
+/// The chosen effect's value, whether it is a bound (and why the search stopped), and for
+/// the damping which form was chosen.
+fn chosen_text(s: &mut String, f: &EffectFit, fits: &[EffectFit], base: &crate::config::Config) {
+    if let Some(b) = &f.bound {
+        let _ = writeln!(
+            s,
+            "The fit of {} lands on the end of the searched range: the data ask for {} x{} \
+             ({}), a bound, not a value. {}\n",
+            f.effect.name(),
+            if b.upper { "at least" } else { "at most" },
+            fmt_factor(f.factor),
+            f.effect.describe_value(base, f.factor),
+            match b.limit {
+                Some(why) => format!("The search stopped at the effect's limit: {why}."),
+                None => "The search stopped after its widenings; widen further with more rounds \
+                         of the calibration or a base config nearer the bound."
+                    .into(),
+            }
+        );
+    }
+    if f.effect.family() == Effect::NormalDamping {
+        let other = fits
+            .iter()
+            .find(|g| g.effect.family() == Effect::NormalDamping && g.effect != f.effect);
+        let _ = writeln!(
+            s,
+            "Damping: chose the {} form, {}{}.\n",
+            if f.effect.identity_at_one() {
+                "config's own"
+            } else {
+                "other"
+            },
+            f.effect.describe_value(base, f.factor),
+            match other {
+                Some(g) => format!(
+                    " (chi2 {:.2}; the {} form fits to chi2 {:.2} with {})",
+                    f.chi2,
+                    if g.effect.identity_at_one() {
+                        "config's own"
+                    } else {
+                        "other"
+                    },
+                    g.chi2,
+                    g.effect.describe_value(base, g.factor)
+                ),
+                None => String::new(),
+            }
+        );
+    }
 }
 
 /// The config a round started from: the base with the earlier rounds' effects applied.

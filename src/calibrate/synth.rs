@@ -84,18 +84,33 @@ pub fn synthesize(
         let Prediction::Compression { phi, scatter, .. } = Prediction::from_seeds(&per_seed) else {
             unreachable!("compression prediction")
         };
-        if let Some(k) = phi.iter().position(|v| !v.is_finite()) {
+        // Clip to the pressures every sample reached, with a warning, rather than fail: the
+        // data then cover what the simulation could show.
+        let reached = phi.iter().position(|v| !v.is_finite()).unwrap_or(phi.len());
+        if reached < 2 {
             return Err(format!(
-                "the {} simulation did not reach {:.3e} Pa; lower the pressure range",
+                "the {} simulation did not reach {:.3e} Pa (two points are needed); lower the \
+                 pressure range",
                 g.name(),
-                pressure[k]
+                pressure[reached.min(1)]
             ));
         }
+        if reached < phi.len() {
+            progress(&format!(
+                "warning: synth: the {} simulation did not reach {:.3e} Pa in every sample; the \
+                 curve is clipped to its first {reached} of {} points (up to {:.3e} Pa)",
+                g.name(),
+                pressure[reached],
+                phi.len(),
+                pressure[reached - 1]
+            ));
+        }
+        let (phi, scatter) = (&phi[..reached], &scatter[..reached]);
         let n = spec.seeds.len() as f64;
         compression.push(CompressionCurve {
             name: format!("{} (synthetic)", g.name()),
             geometry: g,
-            pressure: pressure.clone(),
+            pressure: pressure[..reached].to_vec(),
             phi: phi
                 .iter()
                 .map(|&v| v + spec.phi_noise * rng.normal())

@@ -3,7 +3,10 @@
 //! effect that explains the gap (or say that none does, or that several do equally well),
 //! apply it, re-simulate, and repeat while a gap beyond noise remains.
 
-use super::attribution::{attribute, Decision, EffectFit, Grid};
+use super::attribution::{
+    attribute, detection_limit, single_observable, Decision, DetectionLimit, EffectFit, Grid,
+    SingleObservable,
+};
 use super::effects::Effect;
 use super::gap::{gap, targets, Gap, Prediction};
 use super::measured::{Geometry, MeasuredSet};
@@ -27,6 +30,9 @@ pub struct Settings {
     /// A refinement stops when the interpolated minimum is within this of a simulated factor
     /// (in ln factor; 0.05 is 5%).
     pub refine_tolerance: f64,
+    /// Widenings per candidate at most when its fit lands on an end of the searched range
+    /// (each doubles the distance of that end from the factor 1 in ln factor).
+    pub widenings: usize,
     pub effects: Vec<Effect>,
 }
 
@@ -39,6 +45,7 @@ impl Default for Settings {
             candidates: 3,
             refinements: 3,
             refine_tolerance: 0.05,
+            widenings: 4,
             effects: Effect::ALL.to_vec(),
         }
     }
@@ -48,6 +55,10 @@ impl Default for Settings {
 #[derive(Clone, Debug)]
 pub struct Round {
     pub gap_before: Gap,
+    /// Per effect, the smallest factors these data would have shown (from the screen).
+    pub detection: Vec<DetectionLimit>,
+    /// Set when the gap rests on one curve alone.
+    pub single: Option<SingleObservable>,
     /// Fits sorted by χ², best first (empty when the gap was within noise).
     pub fits: Vec<EffectFit>,
     pub decision: Decision,
@@ -82,7 +93,7 @@ impl Calibration {
         gap(&self.measured, &self.final_predictions)
     }
 
-    /// The effect named in the first round, if one was.
+    /// The effects named (clearly ahead and predicting every curve), round by round.
     pub fn named(&self) -> Vec<Effect> {
         self.rounds
             .iter()
@@ -220,12 +231,38 @@ pub fn calibrate(
             before.curves.len(),
             before.threshold
         ));
+        let effects: Vec<Effect> = settings
+            .effects
+            .iter()
+            .copied()
+            .filter(|e| {
+                e.applies(&current, has_omni)
+                    && !applied.iter().any(|(a, _)| a.family() == e.family())
+            })
+            .collect();
+        // The screen runs even when the gap is within noise: it gives the detection limits.
+        let mut grids = screen(
+            &mut predictor,
+            &current,
+            &current_predictions,
+            &effects,
+            round,
+        )?;
+        let detection: Vec<DetectionLimit> = grids
+            .iter()
+            .filter_map(|g| detection_limit(measured, g))
+            .collect();
         if before.within_noise() {
             progress(&format!(
                 "round {round}: the gap is within sample-to-sample and measurement noise"
             ));
+            for d in &detection {
+                progress(&format!("round {round}: {}", describe_limit(d)));
+            }
             rounds.push(Round {
                 gap_before: before,
+                detection,
+                single: None,
                 fits: Vec::new(),
                 decision: Decision::WithinNoise,
                 applied: None,
@@ -234,29 +271,15 @@ pub fn calibrate(
             });
             break;
         }
-        let effects: Vec<Effect> = settings
-            .effects
-            .iter()
-            .copied()
-            .filter(|e| e.applies(&current, has_omni) && !applied.iter().any(|(a, _)| a == e))
-            .collect();
-        let grids = fit_grids(
-            &mut predictor,
-            &current,
-            &current_predictions,
-            &effects,
-            round,
-        )?;
+        refine(&mut predictor, &current, &mut grids, round)?;
+        let single = single_observable(measured, &before, &grids);
         let (fits, decision) = attribute(measured, &before, &grids);
         report_fits(progress, round, &fits, &decision);
-        let chosen = match &decision {
-            Decision::Named(e) => Some(*e),
-            Decision::Undetermined(tied) => Some(tied[0]),
-            _ => None,
-        };
-        let Some(effect) = chosen else {
+        let Some(effect) = decision.chosen() else {
             rounds.push(Round {
                 gap_before: before,
+                detection,
+                single,
                 fits,
                 decision,
                 applied: None,
@@ -290,6 +313,8 @@ pub fn calibrate(
         let undetermined = matches!(decision, Decision::Undetermined(_));
         rounds.push(Round {
             gap_before: before,
+            detection,
+            single,
             fits,
             decision,
             applied: Some((effect, factor)),
@@ -320,25 +345,105 @@ pub fn calibrate(
     })
 }
 
-/// Screens every effect at the ends of its range and refines the best candidates.
-fn fit_grids(
+/// What a planned data set and system size can resolve: the detection limits from the
+/// baseline and the screen alone (no fit).
+#[derive(Clone, Debug)]
+pub struct Plan {
+    pub measured: MeasuredSet,
+    pub settings: Settings,
+    pub base: Config,
+    pub baseline: Gap,
+    pub detection: Vec<DetectionLimit>,
+    pub runs: usize,
+}
+
+/// `dustdem calibrate --plan`: the baseline and the screen of every effect, and the detection
+/// limits they give. The measured φ values do not enter the limits (only the pressures, the
+/// uncertainties and which curves there are), so a planned file may hold any values.
+pub fn plan(
+    measured: &MeasuredSet,
+    base: &Config,
+    settings: &Settings,
+    cache: &RunCache,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<Plan, String> {
+    if settings.seeds.is_empty() {
+        return Err("calibration needs at least one sample seed".into());
+    }
+    let mut predictor = Predictor {
+        measured,
+        cache,
+        settings,
+        progress,
+        runs: 0,
+    };
+    let has_omni = measured
+        .compression
+        .iter()
+        .any(|c| c.geometry == Geometry::Omni);
+    let baseline = predictor
+        .predict(std::slice::from_ref(base), "baseline")?
+        .remove(0);
+    let effects: Vec<Effect> = settings
+        .effects
+        .iter()
+        .copied()
+        .filter(|e| e.applies(base, has_omni))
+        .collect();
+    let grids = screen(&mut predictor, base, &baseline, &effects, 1)?;
+    let detection: Vec<DetectionLimit> = grids
+        .iter()
+        .filter_map(|g| detection_limit(measured, g))
+        .collect();
+    for d in &detection {
+        progress(&format!("plan: {}", describe_limit(d)));
+    }
+    Ok(Plan {
+        measured: measured.clone(),
+        settings: settings.clone(),
+        base: base.clone(),
+        baseline: gap(measured, &baseline),
+        detection,
+        runs: predictor.runs,
+    })
+}
+
+/// Simulates every effect at the ends of its range (and the damping form switch at its
+/// factor 1, which is not the config's model).
+fn screen(
     predictor: &mut Predictor,
     current: &Config,
     current_predictions: &[Prediction],
     effects: &[Effect],
     round: usize,
 ) -> Result<Vec<Grid>, String> {
+    let mut grids: Vec<Grid> = effects.iter().map(|&e| Grid::new(e)).collect();
+    let mut points = Vec::new();
+    for g in &mut grids {
+        if g.effect.identity_at_one() {
+            g.insert(0.0, current_predictions.to_vec());
+        } else {
+            points.push((g.effect, 1.0));
+        }
+        let (lo, hi) = g.effect.range();
+        points.push((g.effect, lo));
+        points.push((g.effect, hi));
+    }
+    add_points(predictor, &mut grids, &points, current, round, "screen")?;
+    Ok(grids)
+}
+
+/// Refines the best candidates' fits: where a fit lands on an end of its searched range the
+/// range is widened towards the effect's limits, elsewhere a point is added at the
+/// interpolated minimum, until the minimum stops moving.
+fn refine(
+    predictor: &mut Predictor,
+    current: &Config,
+    grids: &mut [Grid],
+    round: usize,
+) -> Result<(), String> {
     let settings = predictor.settings;
     let measured = predictor.measured;
-    let mut grids: Vec<Grid> = effects.iter().map(|&e| Grid::new(e)).collect();
-    let mut screen = Vec::new();
-    for g in &mut grids {
-        g.insert(0.0, current_predictions.to_vec());
-        let (lo, hi) = g.effect.range();
-        screen.push((g.effect, lo));
-        screen.push((g.effect, hi));
-    }
-    add_points(predictor, &mut grids, &screen, current, round, "screen")?;
     let mut ranked: Vec<(f64, usize)> = grids
         .iter()
         .enumerate()
@@ -350,28 +455,43 @@ fn fit_grids(
         .take(settings.candidates)
         .map(|&(_, k)| k)
         .collect();
-    for pass in 1..=settings.refinements {
-        let wanted: Vec<(Effect, f64)> = candidates
-            .iter()
-            .filter_map(|&k| {
-                grids[k]
-                    .next_point(measured, settings.refine_tolerance)
-                    .map(|u| (grids[k].effect, u.exp()))
-            })
-            .collect();
+    let mut widened = vec![0usize; grids.len()];
+    let mut refinements = 0;
+    for pass in 1.. {
+        let mut wanted = Vec::new();
+        let mut refining = false;
+        for &k in &candidates {
+            let g = &grids[k];
+            if widened[k] < settings.widenings {
+                if let Some(u) = g.widen_point(measured) {
+                    widened[k] += 1;
+                    wanted.push((g.effect, u.exp()));
+                    continue;
+                }
+            }
+            // A minimum on an end that may not widen further is a bound: nothing to refine.
+            if g.minimum_at_end(measured).is_some() || refinements >= settings.refinements {
+                continue;
+            }
+            if let Some(u) = g.next_point(measured, settings.refine_tolerance) {
+                wanted.push((g.effect, u.exp()));
+                refining = true;
+            }
+        }
         if wanted.is_empty() {
             break;
         }
+        refinements += usize::from(refining);
         add_points(
             predictor,
-            &mut grids,
+            grids,
             &wanted,
             current,
             round,
             &format!("refine {pass}"),
         )?;
     }
-    Ok(grids)
+    Ok(())
 }
 
 fn add_points(
@@ -411,10 +531,48 @@ pub fn describe_decision(d: &Decision) -> String {
             "no single effect lowers the gap significantly: no effect is named".into()
         }
         Decision::Named(e) => format!("named: {}", e.name()),
+        Decision::Unpredictive { effect, fails } => format!(
+            "no effect explains all curves: {} fits them jointly, but fitted without {} it does \
+             not predict {}; applied as the best partial explanation",
+            effect.name(),
+            fails.join(", "),
+            if fails.len() == 1 { "it" } else { "them" }
+        ),
         Decision::Undetermined(tied) => format!(
             "undetermined: {} explain the data equally well; more or different data are needed \
              to tell them apart",
             tied.iter().map(|e| e.name()).collect::<Vec<_>>().join(", ")
         ),
     }
+}
+
+/// "x0.42", or "beyond x0.125" when the searched range holds no detectable factor.
+pub fn limit_text(limit: Option<f64>, end: f64) -> String {
+    match limit {
+        Some(f) => format!("x{}", short_factor(f)),
+        None => format!("not within x{}", short_factor(end)),
+    }
+}
+
+fn short_factor(f: f64) -> String {
+    if (0.01..1000.0).contains(&f) {
+        format!("{f:.3}")
+    } else {
+        format!("{f:.2e}")
+    }
+}
+
+/// One line per effect: the smallest factors the data would have shown, each way.
+pub fn describe_limit(d: &DetectionLimit) -> String {
+    format!(
+        "{}: shown below {} or above {} (with 4x the samples: {} / {}; with the measured \
+         sigma halved: {} / {})",
+        d.effect.name(),
+        limit_text(d.lower, d.searched.0),
+        limit_text(d.upper, d.searched.1),
+        limit_text(d.lower_4x_samples, d.searched.0),
+        limit_text(d.upper_4x_samples, d.searched.1),
+        limit_text(d.lower_half_sigma, d.searched.0),
+        limit_text(d.upper_half_sigma, d.searched.1),
+    )
 }

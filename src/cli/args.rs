@@ -98,6 +98,10 @@ pub(super) enum Command {
         /// Simulation threads (default: all cores).
         #[arg(long)]
         threads: Option<usize>,
+        /// Only estimate what the (planned) data and the config's system size can resolve:
+        /// the baseline and a screen of every effect, no fit; writes plan.md.
+        #[arg(long)]
+        plan: bool,
     },
     /// Measure particle-steps per second of the engines (and of LAMMPS with --lammps) on RBD
     /// samples under 1 m/s omnidirectional compression; writes bench.md and bench.csv.

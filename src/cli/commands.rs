@@ -5,7 +5,7 @@ use super::progress::{interrupt_flag, print_summary, Reporter};
 use crate::analysis::fit::{fit_eq13, FitOptions};
 use crate::bench::{run_bench, write_tables, Options as BenchOptions};
 use crate::calibrate::synth::{write_synth, SynthSpec};
-use crate::calibrate::{parse_effect, run_calibration, Settings};
+use crate::calibrate::{parse_effect, run_calibration, run_plan, Settings};
 use crate::config::{stable_time_step, Config};
 use crate::experiment::collision::analytic_sticking_speed;
 use crate::experiment::compression::RunError;
@@ -238,6 +238,7 @@ pub(super) fn calibrate(
     seeds: Vec<u64>,
     rounds: usize,
     threads: Option<usize>,
+    plan: bool,
 ) -> Result<(), String> {
     let mut settings = Settings {
         seeds,
@@ -248,7 +249,11 @@ pub(super) fn calibrate(
         settings.threads = t;
     }
     let progress = |line: &str| eprintln!("{line}");
-    let (lines, files) = run_calibration(measured, config, out, &settings, &progress)?;
+    let (lines, files) = if plan {
+        run_plan(measured, config, out, &settings, &progress)?
+    } else {
+        run_calibration(measured, config, out, &settings, &progress)?
+    };
     for line in lines {
         println!("{line}");
     }

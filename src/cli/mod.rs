@@ -56,7 +56,8 @@ pub fn main() -> ExitCode {
             seeds,
             rounds,
             threads,
-        } => calibrate(&measured, &config, &out, seeds, rounds, threads),
+            plan,
+        } => calibrate(&measured, &config, &out, seeds, rounds, threads, plan),
         Command::Bench {
             sizes,
             seconds,
