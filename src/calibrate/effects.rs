@@ -150,7 +150,8 @@ impl Effect {
     }
 
     /// How far a widened search may go, [lo, hi], and why not further (the same reason
-    /// serves both ends unless it says otherwise).
+    /// serves both ends unless it says otherwise). Where the searched range already is what
+    /// is physically plausible the limits are the range: no widening.
     pub fn limits(self) -> (f64, f64, &'static str) {
         match self {
             Effect::RollingStiffness | Effect::TwistingStiffness => (
@@ -169,9 +170,10 @@ impl Effect {
                 "x4096 of the paper's kappa = 1e-6 g/s already sticks far above any measured                  micron-grain speed; below x1/1024 the damping does nothing a test can see",
             ),
             Effect::SurfaceEnergy => (
-                0.25,
-                5.0,
-                "silica surface energies are measured between about 10 and 100 mJ/m2",
+                0.5,
+                2.5,
+                "silica surface energies are measured between about 10 and 50 mJ/m2 (the \
+                 searched range of the paper's 20 mJ/m2)",
             ),
             Effect::CriticalRollingLength => (
                 1.0 / 32.0,
@@ -179,9 +181,10 @@ impl Effect {
                 "xi_crit is measured between about 0.2 and 3 nm for micron silica; a factor 64                  of the paper's 2 nm is over 100 nm, a tenth of the radius",
             ),
             Effect::YoungsModulus => (
-                1.0 / 16.0,
-                4.0,
-                "amorphous silica has E of about 54-72 GPa; beyond x4 or /16 it is another                  material",
+                0.25,
+                2.0,
+                "amorphous silica has E of about 54-72 GPa; the searched range already spans \
+                 13.5-108 GPa",
             ),
             Effect::SideWallStrength => (
                 1e-3,
@@ -189,13 +192,14 @@ impl Effect {
                 "x1e4 makes the defaults' side walls ten times stickier than a monomer contact",
             ),
             Effect::MonomerRadius => (
-                0.5,
-                2.0,
-                "the monomer radius is measured (0.6 um for Blum's silica); a factor 2 is                  another powder",
+                2.0 / 3.0,
+                1.5,
+                "the monomer radius is measured (0.6 um for the silica of Blum's group, \
+                 monodisperse); a factor 1.5 is another powder",
             ),
             Effect::Density => (
-                0.5,
-                1.5,
+                0.75,
+                1.25,
                 "silica densities lie between 2.0 (amorphous) and 2.65 g/cm3 (quartz)",
             ),
         }
@@ -331,7 +335,7 @@ mod tests {
             assert_eq!(Effect::from_name(e.name()), Some(e));
             let (lo, hi) = e.range();
             let (hard_lo, hard_hi, why) = e.limits();
-            assert!(hard_lo < lo && lo < 1.0 && hi > 1.0 && hard_hi > hi && !why.is_empty());
+            assert!(hard_lo <= lo && lo < 1.0 && hi > 1.0 && hard_hi >= hi && !why.is_empty());
         }
     }
 

@@ -48,11 +48,12 @@ pub fn run_plan(
     config_path: &Path,
     out: &Path,
     settings: &Settings,
+    cache: &RunCache,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<(Vec<String>, Vec<PathBuf>), String> {
     let (measured, label) = load_measured(measured_paths)?;
     let config = Config::load(config_path).map_err(|e| e.to_string())?;
-    let plan = workflow::plan(&measured, &config, settings, &RunCache::new(), progress)?;
+    let plan = workflow::plan(&measured, &config, settings, cache, progress)?;
     let file = report::write_plan(&plan, out, &label, config_path)?;
     let lines = plan
         .detection
@@ -70,12 +71,12 @@ pub fn run_calibration(
     config_path: &Path,
     out: &Path,
     settings: &Settings,
+    cache: &RunCache,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<(Vec<String>, Vec<PathBuf>), String> {
     let (measured, label) = load_measured(measured_paths)?;
     let config = Config::load(config_path).map_err(|e| e.to_string())?;
-    let cache = RunCache::new();
-    let cal = calibrate(&measured, &config, settings, &cache, progress)?;
+    let cal = calibrate(&measured, &config, settings, cache, progress)?;
     let files = report::write_outputs(&cal, out, &label, config_path)?;
     let mut lines = Vec::new();
     for (k, round) in cal.rounds.iter().enumerate() {

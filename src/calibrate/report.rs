@@ -511,7 +511,13 @@ fn held_out_table(s: &mut String, round: &Round) {
                 h.curve,
                 fmt_factor(h.factor),
                 h.chi2,
-                if h.predicted { "yes" } else { "**no**" }
+                if !h.constrained {
+                    "not judged: the other curves do not pin the factor"
+                } else if h.predicted {
+                    "yes"
+                } else {
+                    "**no**"
+                }
             );
         }
         let fails = f.failed_predictions();
@@ -519,7 +525,7 @@ fn held_out_table(s: &mut String, round: &Round) {
             let fitted: Vec<&str> = f
                 .held_out
                 .iter()
-                .filter(|h| h.predicted)
+                .filter(|h| h.predicted && h.constrained)
                 .map(|h| h.curve.as_str())
                 .collect();
             let _ = writeln!(

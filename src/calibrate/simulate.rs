@@ -4,12 +4,15 @@
 //! engine is deterministic), and are spread over threads.
 
 use super::measured::Geometry;
+use crate::binary::fnv1a64;
 use crate::config::{Config, ExperimentKind, FootprintKind, SampleSource};
 use crate::experiment::collision::{analytic_sticking_speed, head_on_collision, Outcome};
 use crate::experiment::compression::{Compression, Event};
 use crate::job::reference_engine;
 use crate::material::normal_period_of;
+use crate::output::atomic::write_atomic;
 use std::collections::HashMap;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 
@@ -56,10 +59,13 @@ pub enum Output {
 /// One run's result, filled once by whichever thread asks first.
 type Slot = Arc<OnceLock<Result<Output, String>>>;
 
-/// Results of runs already made, shared by every calibration that holds the cache.
+/// Results of runs already made, shared by every calibration that holds the cache; with a
+/// directory, also kept on disk (one file per run, named by a hash of its config and holding
+/// the config itself), so an interrupted or repeated calibration does not repeat a run.
 #[derive(Default)]
 pub struct RunCache {
     slots: Mutex<HashMap<String, Slot>>,
+    dir: Option<PathBuf>,
 }
 
 impl RunCache {
@@ -67,14 +73,39 @@ impl RunCache {
         Self::default()
     }
 
+    /// A cache that also stores every finished run in `dir` and reads it back from there.
+    pub fn persistent(dir: &Path) -> Self {
+        RunCache {
+            slots: Mutex::default(),
+            dir: Some(dir.to_path_buf()),
+        }
+    }
+
     /// The output of `run`, simulated on first request. Concurrent requests for the same run
     /// wait for the first instead of repeating it.
     pub fn get(&self, run: &Run) -> Result<Output, String> {
+        let key = run.key();
         let slot = {
             let mut slots = self.slots.lock().unwrap_or_else(|e| e.into_inner());
-            Arc::clone(slots.entry(run.key()).or_default())
+            Arc::clone(slots.entry(key.clone()).or_default())
         };
-        slot.get_or_init(|| simulate(run)).clone()
+        slot.get_or_init(|| {
+            let Some(dir) = &self.dir else {
+                return simulate(run);
+            };
+            let path = dir.join(format!("{:016x}.run", fnv1a64(key.as_bytes())));
+            if let Some(out) = stored::read(&path, &key) {
+                return Ok(out);
+            }
+            let out = simulate(run);
+            if let Ok(o) = &out {
+                // A cache that cannot be written costs a repeat next time, nothing else.
+                let _ = std::fs::create_dir_all(dir)
+                    .and_then(|_| write_atomic(&path, stored::write(&key, o).as_bytes()));
+            }
+            out
+        })
+        .clone()
     }
 
     pub fn len(&self) -> usize {
@@ -83,6 +114,75 @@ impl RunCache {
 
     pub fn is_empty(&self) -> bool {
         self.len() == 0
+    }
+}
+
+/// The on-disk form of a run's output: a header, the run's full key (its config, compared on
+/// reading so a hash collision reads as a miss), and the values as exact f64 bit patterns.
+mod stored {
+    use super::{Envelope, Output};
+    use std::path::Path;
+
+    const HEADER: &str = "dustdem calibration run 1";
+
+    fn bits(x: f64) -> String {
+        format!("{:016x}", x.to_bits())
+    }
+
+    fn value(text: &str) -> Option<f64> {
+        u64::from_str_radix(text, 16).ok().map(f64::from_bits)
+    }
+
+    pub fn write(key: &str, out: &Output) -> String {
+        let mut s = format!("{HEADER}\n{}\n{key}\n", key.len());
+        match out {
+            Output::Sticking(v) => s.push_str(&format!("sticking {}\n", bits(*v))),
+            Output::Envelope(e) => {
+                s.push_str(&format!("envelope {}\n", e.phi.len()));
+                for (phi, p) in e.phi.iter().zip(&e.log10_p) {
+                    s.push_str(&format!("{} {}\n", bits(*phi), bits(*p)));
+                }
+                if let Some(f) = &e.failure {
+                    s.push_str(&format!("failure {}\n", f.replace('\n', " ")));
+                }
+            }
+        }
+        s
+    }
+
+    /// The stored output of the run with `key`, or None (no file, another run, damaged).
+    pub fn read(path: &Path, key: &str) -> Option<Output> {
+        let text = std::fs::read_to_string(path).ok()?;
+        let rest = text.strip_prefix(HEADER)?.strip_prefix('\n')?;
+        let (len, rest) = rest.split_once('\n')?;
+        let len: usize = len.parse().ok()?;
+        let stored_key = rest.get(..len)?;
+        if stored_key != key {
+            return None;
+        }
+        let mut lines = rest.get(len..)?.strip_prefix('\n')?.lines();
+        let (kind, n) = lines.next()?.split_once(' ')?;
+        match kind {
+            "sticking" => Some(Output::Sticking(value(n)?)),
+            "envelope" => {
+                let n: usize = n.parse().ok()?;
+                let mut e = Envelope {
+                    phi: Vec::with_capacity(n),
+                    log10_p: Vec::with_capacity(n),
+                    failure: None,
+                };
+                for _ in 0..n {
+                    let (a, b) = lines.next()?.split_once(' ')?;
+                    e.phi.push(value(a)?);
+                    e.log10_p.push(value(b)?);
+                }
+                if let Some(line) = lines.next() {
+                    e.failure = Some(line.strip_prefix("failure ")?.to_string());
+                }
+                Some(Output::Envelope(e))
+            }
+            _ => None,
+        }
     }
 }
 
@@ -238,6 +338,35 @@ mod tests {
         assert!((env.phi_at(1e3) - 0.2).abs() < 0.006, "{}", env.phi_at(1e3));
         assert!(env.phi_at(1e9).is_nan());
         assert_eq!(env.phi_at(1.0), 0.1);
+    }
+
+    #[test]
+    fn stored_runs_read_back_exactly_and_only_for_their_own_config() {
+        let dir = std::env::temp_dir().join(format!("dustdem-run-cache-{}", std::process::id()));
+        let e = Envelope {
+            phi: vec![0.15, 0.1 + 0.2],
+            log10_p: vec![2.0, f64::from_bits(0x4010_0000_0000_0001)],
+            failure: Some("wall\nguard".into()),
+        };
+        for (k, out) in [Output::Envelope(e), Output::Sticking(1.2345678901234567)]
+            .into_iter()
+            .enumerate()
+        {
+            let path = dir.join(format!("{k}.run"));
+            std::fs::create_dir_all(&dir).unwrap();
+            std::fs::write(&path, stored::write("key\nwith lines", &out)).unwrap();
+            let back = stored::read(&path, "key\nwith lines").unwrap();
+            match (&back, &out) {
+                (Output::Envelope(a), Output::Envelope(b)) => {
+                    assert_eq!(a.phi, b.phi);
+                    assert_eq!(a.log10_p, b.log10_p);
+                    assert_eq!(a.failure.as_deref(), Some("wall guard"));
+                }
+                _ => assert_eq!(back, out),
+            }
+            assert!(stored::read(&path, "another key").is_none());
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

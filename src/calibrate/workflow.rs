@@ -433,9 +433,12 @@ fn screen(
     Ok(grids)
 }
 
-/// Refines the best candidates' fits: where a fit lands on an end of its searched range the
-/// range is widened towards the effect's limits, elsewhere a point is added at the
-/// interpolated minimum, until the minimum stops moving.
+/// Widens the search of every effect whose fit lands on an end of its searched range with χ²
+/// still falling there (see [`Grid::end_still_falling`]), towards the
+/// effect's limits; then refines the best candidates' fits by a point at the interpolated
+/// minimum until it stops moving. Every effect is widened, not just the best screened: an
+/// effect that needs a factor far beyond the screen (the viscous damping that Poppe et al.'s
+/// sticking speed needs from the paper's kappa) looks useless at the screen's ends.
 fn refine(
     predictor: &mut Predictor,
     current: &Config,
@@ -444,6 +447,24 @@ fn refine(
 ) -> Result<(), String> {
     let settings = predictor.settings;
     let measured = predictor.measured;
+    for pass in 1..=settings.widenings {
+        let wanted: Vec<(Effect, f64)> = grids
+            .iter()
+            .filter(|g| g.end_still_falling(measured))
+            .filter_map(|g| g.widen_point(measured).map(|u| (g.effect, u.exp())))
+            .collect();
+        if wanted.is_empty() {
+            break;
+        }
+        add_points(
+            predictor,
+            grids,
+            &wanted,
+            current,
+            round,
+            &format!("widen {pass}"),
+        )?;
+    }
     let mut ranked: Vec<(f64, usize)> = grids
         .iter()
         .enumerate()
@@ -455,33 +476,20 @@ fn refine(
         .take(settings.candidates)
         .map(|&(_, k)| k)
         .collect();
-    let mut widened = vec![0usize; grids.len()];
-    let mut refinements = 0;
-    for pass in 1.. {
-        let mut wanted = Vec::new();
-        let mut refining = false;
-        for &k in &candidates {
-            let g = &grids[k];
-            if widened[k] < settings.widenings {
-                if let Some(u) = g.widen_point(measured) {
-                    widened[k] += 1;
-                    wanted.push((g.effect, u.exp()));
-                    continue;
-                }
-            }
-            // A minimum on an end that may not widen further is a bound: nothing to refine.
-            if g.minimum_at_end(measured).is_some() || refinements >= settings.refinements {
-                continue;
-            }
-            if let Some(u) = g.next_point(measured, settings.refine_tolerance) {
-                wanted.push((g.effect, u.exp()));
-                refining = true;
-            }
-        }
+    for pass in 1..=settings.refinements {
+        // A minimum on an end is a bound: nothing to refine there.
+        let wanted: Vec<(Effect, f64)> = candidates
+            .iter()
+            .map(|&k| &grids[k])
+            .filter(|g| g.minimum_at_end(measured).is_none())
+            .filter_map(|g| {
+                g.next_point(measured, settings.refine_tolerance)
+                    .map(|u| (g.effect, u.exp()))
+            })
+            .collect();
         if wanted.is_empty() {
             break;
         }
-        refinements += usize::from(refining);
         add_points(
             predictor,
             grids,

@@ -102,6 +102,10 @@ pub(super) enum Command {
         /// the baseline and a screen of every effect, no fit; writes plan.md.
         #[arg(long)]
         plan: bool,
+        /// Where finished runs are kept, so a repeated or interrupted calibration does not
+        /// repeat them (default: OUT/run_cache).
+        #[arg(long)]
+        cache: Option<PathBuf>,
     },
     /// Measure particle-steps per second of the engines (and of LAMMPS with --lammps) on RBD
     /// samples under 1 m/s omnidirectional compression; writes bench.md and bench.csv.

@@ -5,7 +5,7 @@ use super::progress::{interrupt_flag, print_summary, Reporter};
 use crate::analysis::fit::{fit_eq13, FitOptions};
 use crate::bench::{run_bench, write_tables, Options as BenchOptions};
 use crate::calibrate::synth::{write_synth, SynthSpec};
-use crate::calibrate::{parse_effect, run_calibration, run_plan, Settings};
+use crate::calibrate::{parse_effect, run_calibration, run_plan, RunCache, Settings};
 use crate::config::{stable_time_step, Config};
 use crate::experiment::collision::analytic_sticking_speed;
 use crate::experiment::compression::RunError;
@@ -235,24 +235,16 @@ pub(super) fn calibrate(
     measured: &[PathBuf],
     config: &Path,
     out: &Path,
-    seeds: Vec<u64>,
-    rounds: usize,
-    threads: Option<usize>,
+    settings: &Settings,
     plan: bool,
+    cache: &Path,
 ) -> Result<(), String> {
-    let mut settings = Settings {
-        seeds,
-        max_rounds: rounds,
-        ..Settings::default()
-    };
-    if let Some(t) = threads {
-        settings.threads = t;
-    }
     let progress = |line: &str| eprintln!("{line}");
+    let cache = RunCache::persistent(cache);
     let (lines, files) = if plan {
-        run_plan(measured, config, out, &settings, &progress)?
+        run_plan(measured, config, out, settings, &cache, &progress)?
     } else {
-        run_calibration(measured, config, out, &settings, &progress)?
+        run_calibration(measured, config, out, settings, &cache, &progress)?
     };
     for line in lines {
         println!("{line}");

@@ -6,6 +6,7 @@ mod commands;
 mod progress;
 
 use crate::calibrate::synth::SynthSpec;
+use crate::calibrate::Settings;
 use crate::job::{Backend, PrivateRuntimeDir};
 use args::{Cli, Command, SweepAction};
 use clap::Parser;
@@ -57,7 +58,19 @@ pub fn main() -> ExitCode {
             rounds,
             threads,
             plan,
-        } => calibrate(&measured, &config, &out, seeds, rounds, threads, plan),
+            cache,
+        } => {
+            let cache = cache.unwrap_or_else(|| out.join("run_cache"));
+            let mut settings = Settings {
+                seeds,
+                max_rounds: rounds,
+                ..Settings::default()
+            };
+            if let Some(t) = threads {
+                settings.threads = t;
+            }
+            calibrate(&measured, &config, &out, &settings, plan, &cache)
+        }
         Command::Bench {
             sizes,
             seconds,
