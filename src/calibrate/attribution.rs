@@ -205,7 +205,11 @@ pub struct HeldOut {
     pub curve: String,
     /// The factor fitted to the other curves.
     pub factor: f64,
-    /// χ² of the left-out curve at that factor.
+    /// The factors the other curves allow (their χ² within 3.84 of its minimum: 95% for one
+    /// parameter).
+    pub allowed: (f64, f64),
+    /// The left-out curve's lowest χ² over the allowed factors: the refit's own uncertainty
+    /// counts, so weak constraints from the other curves are not read as a failed prediction.
     pub chi2: f64,
     /// The other curves pin the factor: their χ² varies by more than 1 over the searched
     /// range. Where they do not (side walls against a uni curve and a sticking velocity,
@@ -217,7 +221,7 @@ pub struct HeldOut {
 }
 
 /// Leave-one-curve-out: the grid fitted to every curve but one, for each curve in turn, and
-/// the left-out curve's χ² at that fit. Empty for a single curve.
+/// the left-out curve's χ² over the factors that fit allows. Empty for a single curve.
 pub fn held_out(m: &MeasuredSet, grid: &Grid) -> Vec<HeldOut> {
     let names: Vec<String> = gap(m, &grid.points[0].1)
         .curves
@@ -227,19 +231,30 @@ pub fn held_out(m: &MeasuredSet, grid: &Grid) -> Vec<HeldOut> {
     if names.len() < 2 {
         return Vec::new();
     }
+    let allowed_rise = chi2_quantile_95(1);
     names
         .iter()
         .enumerate()
         .map(|(j, name)| {
             let scan = grid.scan_curves(m, &|k| k != j);
-            let (u, _, _) = minimum_of(&scan);
-            let spread = scan.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max)
-                - scan.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
+            let (u, best, _) = minimum_of(&scan);
+            let spread = scan.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max) - best;
             let constrained = spread > 1.0;
-            let chi2 = gap(m, &grid.interpolate(u)).curves[j].chi2;
+            let allowed: Vec<f64> = scan
+                .iter()
+                .filter(|(_, c)| *c <= best + allowed_rise)
+                .map(|(u, _)| *u)
+                .collect();
+            let chi2 = allowed
+                .iter()
+                .map(|&v| gap(m, &grid.interpolate(v)).curves[j].chi2)
+                .fold(f64::INFINITY, f64::min);
+            let lo = allowed.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = allowed.iter().copied().fold(f64::NEG_INFINITY, f64::max);
             HeldOut {
                 curve: name.clone(),
                 factor: u.exp(),
+                allowed: (lo.exp(), hi.exp()),
                 chi2,
                 constrained,
                 predicted: !constrained || chi2 <= PREDICTION_LIMIT,
@@ -526,7 +541,19 @@ pub fn attribute(m: &MeasuredSet, baseline: &Gap, grids: &[Grid]) -> (Vec<Effect
         // With one observable, each parameter outside the library that moves it is as
         // good an explanation a priori as the best fit.
         let outside = single.as_ref().map_or(0, |s| s.outside.len()) as f64;
-        let total: f64 = weights.iter().sum::<f64>() + outside;
+        // The damping's two forms are one explanation: only each family's best counts.
+        let total: f64 = fits
+            .iter()
+            .zip(&weights)
+            .enumerate()
+            .filter(|(k, (f, _))| {
+                !fits[..*k]
+                    .iter()
+                    .any(|g| g.effect.family() == f.effect.family())
+            })
+            .map(|(_, (_, w))| w)
+            .sum::<f64>()
+            + outside;
         for (f, w) in fits.iter_mut().zip(weights) {
             f.confidence = w / total;
         }

@@ -192,10 +192,10 @@ impl Effect {
                 "x1e4 makes the defaults' side walls ten times stickier than a monomer contact",
             ),
             Effect::MonomerRadius => (
-                2.0 / 3.0,
-                1.5,
-                "the monomer radius is measured (0.6 um for the silica of Blum's group, \
-                 monodisperse); a factor 1.5 is another powder",
+                0.8,
+                1.25,
+                "the monomer radius is measured (0.6 um for the monodisperse silica of Blum's \
+                 group, a spread of a few percent); the searched range already allows 20-25%",
             ),
             Effect::Density => (
                 0.75,
