@@ -327,8 +327,8 @@ fn bounce_off_moving(
 }
 
 #[test]
-fn a_monomer_bouncing_off_a_moving_damped_wall_loses_in_the_walls_frame_exactly_the_tallied_energy(
-) {
+fn a_monomer_bouncing_off_a_moving_damped_wall_loses_in_the_walls_frame_exactly_the_tallied_energy()
+{
     // A wall moving at constant velocity is a static wall seen from its own frame (Galilean
     // invariance), so the kinetic energy lost relative to the wall is what the contact
     // dissipated: the JKR loop and sliding (walls channel, booked with the monomer's velocity
@@ -337,12 +337,8 @@ fn a_monomer_bouncing_off_a_moving_damped_wall_loses_in_the_walls_frame_exactly_
     // ζ_crit on the weak side wall; the wall advances at 200 cm/s, like a compressing wall.
     let law = law_with(Damping::Viscoelastic { t_vis: 1.25e-11 });
     let wall_velocity = DVec3::new(200.0, 0.0, 0.0);
-    let (lost, tallied) = bounce_off_moving(
-        law,
-        WEAK,
-        DVec3::new(-100.0, 300.0, 0.0),
-        wall_velocity,
-    );
+    let (lost, tallied) =
+        bounce_off_moving(law, WEAK, DVec3::new(-100.0, 300.0, 0.0), wall_velocity);
     let (lost_static, tallied_static) =
         bounce_off_moving(law, WEAK, DVec3::new(-100.0, 300.0, 0.0), DVec3::ZERO);
     let rel = (lost - tallied) / tallied;

@@ -131,8 +131,7 @@ pub fn sticking_threshold<E: Engine>(
     mut sticks: f64,
     mut bounces: f64,
     tolerance: f64,
-    build: impl Fn(ContactLaw, f64, Monomers, Vec<Wall>, usize, usize) -> Result<E, EngineError>
-        + Sync,
+    build: impl Fn(ContactLaw, f64, Monomers, Vec<Wall>, usize, usize) -> Result<E, EngineError> + Sync,
 ) -> Result<f64, EngineError> {
     for _ in 0..60 {
         if bounces - sticks <= tolerance * sticks {
