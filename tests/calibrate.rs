@@ -100,7 +100,7 @@ fn run_calibration(name: &str, measured: &MeasuredSet, settings: &Settings) -> C
     for (k, r) in cal.rounds.iter().enumerate() {
         eprintln!("{name}: round {}: {:?}", k + 1, r.decision);
         for f in r.fits.iter().take(4) {
-            eprintln!("{name}:   {}", f.summary());
+            eprintln!("{name}:   {} held out {:?}", f.summary(), f.held_out);
         }
     }
     // The report, plot and corrected config are written for every case.
@@ -372,14 +372,6 @@ fn data_at_wall_speeds(omni: f64, uni: f64) -> MeasuredSet {
     m
 }
 
-fn describe(name: &str, cal: &Calibration) {
-    let first = &cal.rounds[0];
-    eprintln!("{name}: {:?}", first.decision);
-    for f in first.fits.iter().take(3) {
-        eprintln!("{name}:   {} held out {:?}", f.summary(), f.held_out);
-    }
-}
-
 #[test]
 fn data_with_one_curve_at_another_wall_speed_are_not_explained_by_a_library_effect() {
     // Only the uni curve was compressed at 2.5 m/s (two experiments, two speeds; the config
@@ -397,7 +389,6 @@ fn data_with_one_curve_at_another_wall_speed_are_not_explained_by_a_library_effe
         ..settings()
     };
     let cal = run_calibration("uni-speed", &m, &one_round);
-    describe("uni-speed", &cal);
     let first = &cal.rounds[0];
     assert!(
         !first.gap_before.within_noise(),
