@@ -3,10 +3,11 @@
 //!
 //! Statistical parity is what a chaotic run can promise in general (φ(P) within ±0.01 at
 //! every decade of P; the mean wall force of a 1 cm/s segment within 2%), because a chaotic
-//! many-body run on another backend would diverge step by step. In the exact float mode it does not diverge: the GPU's
-//! trajectory equals the CPU's to the bit, so φ and the contact counts must be equal and the
-//! pressures may differ only by the summation order of the wall forces (1e-9 relative here,
-//! far inside the 2% statistical bound). In the relaxed mode the statistical bounds apply.
+//! many-body run on another backend would diverge step by step. In the exact float mode it
+//! does not diverge: the GPU's trajectory equals the CPU's to the bit, so φ and the contact
+//! counts must be equal and the pressures may differ only by the summation order of the wall
+//! forces (1e-9 relative here, far inside the 2% statistical bound). In the relaxed mode the
+//! statistical bounds apply.
 
 mod gpu_support;
 
