@@ -1,12 +1,14 @@
-//! `dustdem reproduce`: the smoke tier runs its three sweeps, analyses them and writes
-//! REPRODUCTION.md with every study and figure it names; a second call resumes (nothing is
-//! run again) and `--report-only` writes the same report; `--slurm` writes one job array per
-//! study. The smoke tier's samples (150–300 monomers) take seconds.
+//! `dustdem reproduce`: the smoke tier runs its four sweeps, stores the finished cases and
+//! writes REPRODUCTION.md with a verdict on every claim; a second call runs nothing and
+//! changes nothing, and the store alone (no runs) rebuilds the report and its figures byte
+//! for byte; `--slurm` writes one job array per study. The smoke tier's samples (150–300
+//! monomers) take seconds.
 
 mod common;
 
 use common::Scratch;
-use std::path::Path;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn reproduce(out: &Path, extra: &[&str]) -> Output {
@@ -24,72 +26,104 @@ fn reproduce(out: &Path, extra: &[&str]) -> Output {
     output
 }
 
-/// The report without the time this call took, which differs between calls.
-fn without_times(report: &str) -> String {
-    report
-        .lines()
-        .map(|l| match (l.find("; "), l.find(" in this call")) {
-            (Some(start), Some(end)) if start < end => format!("{}{}", &l[..start], &l[end..]),
-            _ => l.to_string(),
-        })
-        .collect::<Vec<_>>()
-        .join("\n")
+/// Every file under `dir` with its bytes, by path relative to `dir`.
+fn tree(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
+    let mut out = BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap().flatten() {
+            let path = e.path();
+            if path.is_dir() {
+                stack.push(path);
+            } else {
+                let bytes = std::fs::read(&path).unwrap();
+                out.insert(path.strip_prefix(dir).unwrap().to_path_buf(), bytes);
+            }
+        }
+    }
+    out
 }
 
 #[test]
-fn the_smoke_tier_writes_a_report_of_every_study_and_resumes() {
+fn the_smoke_tier_stores_its_cases_and_rebuilds_the_report_from_the_store_alone() {
     let scratch = Scratch::new("reproduce");
     let out = scratch.path().join("smoke");
-    reproduce(&out, &[]);
+    let runs = scratch.path().join("runs");
+    let runs_arg = runs.to_str().unwrap();
+    reproduce(&out, &["--runs", runs_arg]);
     let report = std::fs::read_to_string(out.join("REPRODUCTION.md")).expect("report");
     for section in [
+        "## Conditions: the paper's and ours",
+        "## Verdicts",
+        "## Differences of method that remain",
         "## Quasi-static omnidirectional compression",
         "## Dynamic omnidirectional compression",
+        "## Omnidirectional compression below 1 m/s",
         "## Unidirectional compression",
-        "## What this tier cannot show",
     ] {
         assert!(report.contains(section), "no {section:?} in\n{report}");
     }
-    // Both models beside the measured curves, with φ from the runs.
-    for reference in [
-        "| Güttler et al. 2009 (Eq. 13) | 0.1581 |",
-        "| Blum & Schräpler 2004 (Eq. 13) | 0.1509 |",
+    // Every claim has a verdict; no Rust debug output anywhere.
+    for claim in [
+        "| Three regimes at v ≥ 1 m/s",
+        "| Compaction front speed v_p",
+        "| p_m at 2 m/s (Eq. 15) | 5.41 kPa",
+        "| Δ at 5 m/s (Eq. 17) |",
+        "| Quasi-static omni, calibrated model",
+        "| Unidirectional, unmodified model",
     ] {
-        assert!(report.contains(reference), "no {reference:?}");
+        assert!(report.contains(claim), "no {claim:?} in\n{report}");
     }
-    assert_eq!(report.matches("\n| modified | ").count(), 2, "{report}");
-    assert_eq!(report.matches("\n| unmodified | ").count(), 2, "{report}");
-    // One dynamic row per speed, with the paper's p_m at that speed (5.413 kPa at 2 m/s).
-    assert!(report
-        .lines()
-        .any(|l| l.starts_with("| 2 | 2 |") && l.contains("| 5.413 |")));
+    for debug in ["Some(", "Ok(", "Err(", "{ ", "Spread"] {
+        assert!(
+            !report.contains(debug),
+            "debug output {debug:?} in\n{report}"
+        );
+    }
     // Every figure the report links exists.
-    let mut figures = 0;
     for line in report.lines().filter(|l| l.starts_with("![")) {
         let target = &line[line.find("](").unwrap() + 2..line.len() - 1];
         assert!(out.join(target).is_file(), "missing figure {target}");
-        figures += 1;
     }
-    // Quasi-static: one curve figure per model; dynamic: curves, p_m(v), Δ(v) and the
-    // profiles of each of its two speeds; uni: one per model.
-    assert_eq!(figures, 2 + 3 + 2 + 2);
-    for study in ["quasi_static", "dynamic", "uni"] {
-        assert!(out.join(study).join("runs/analysis.md").is_file());
+    // The store holds each finished case: 2 seeds, 2 models, each study's speeds.
+    for (study, cases) in [
+        ("quasi_static", 4),
+        ("dynamic", 8),
+        ("slow_dynamic", 4),
+        ("uni", 4),
+    ] {
+        let index = std::fs::read_to_string(out.join(study).join("cases.toml")).unwrap();
+        assert_eq!(
+            index.matches("[[case]]").count(),
+            cases,
+            "{study}:\n{index}"
+        );
     }
+    assert!(
+        !out.join("dynamic/runs").exists(),
+        "runs went under the store"
+    );
 
-    // Again: every case is finished, so nothing runs and the numbers are the same.
-    let again = reproduce(&out, &[]);
+    // Again: every case is finished and stored, so nothing runs and nothing changes.
+    let before = tree(&out);
+    let again = reproduce(&out, &["--runs", runs_arg]);
     let stderr = String::from_utf8_lossy(&again.stderr);
     assert!(!stderr.contains(" done v"), "a case ran again:\n{stderr}");
-    let second = std::fs::read_to_string(out.join("REPRODUCTION.md")).unwrap();
-    assert_eq!(without_times(&second), without_times(&report));
+    assert_eq!(tree(&out), before);
 
-    reproduce(&out, &["--report-only"]);
-    let third = std::fs::read_to_string(out.join("REPRODUCTION.md")).unwrap();
-    assert!(third.contains("not timed in this call"));
-    // The cases' own times come from their status files, whichever call reports them.
-    assert!(third.contains(" s in all ("), "{third}");
-    assert_eq!(without_times(&third), without_times(&report));
+    // The store alone, copied elsewhere without the runs, rebuilds every byte.
+    let copy = scratch.path().join("copy");
+    std::fs::create_dir_all(&copy).unwrap();
+    for (path, bytes) in &before {
+        let keep = path.extension().is_some_and(|x| x == "csv" || x == "toml");
+        if keep {
+            let target = copy.join(path);
+            std::fs::create_dir_all(target.parent().unwrap()).unwrap();
+            std::fs::write(target, bytes).unwrap();
+        }
+    }
+    reproduce(&copy, &["--report-only"]);
+    assert_eq!(tree(&copy), before);
 }
 
 #[test]
@@ -97,7 +131,7 @@ fn slurm_mode_writes_one_job_array_per_study_and_runs_nothing() {
     let scratch = Scratch::new("reproduce-slurm");
     let out = scratch.path().join("full");
     let output = Command::new(env!("CARGO_BIN_EXE_dustdem"))
-        .args(["reproduce", "--tier", "full", "--slurm", "--out"])
+        .args(["reproduce", "--tier", "paper", "--slurm", "--out"])
         .arg(&out)
         .output()
         .expect("dustdem runs");
@@ -106,10 +140,11 @@ fn slurm_mode_writes_one_job_array_per_study_and_runs_nothing() {
         "{}",
         String::from_utf8_lossy(&output.stderr)
     );
-    for (study, cases, monomers) in [
-        ("quasi_static", 2 * 6 * 2, 11_000),
-        ("dynamic", 8 * 6, 40_000),
-        ("uni", 6 * 2, 18_000),
+    for (study, cases, sizes) in [
+        ("quasi_static", 2 * 6 * 2 * 3, "[2000, 4000, 11000]"),
+        ("dynamic", 8 * 6 * 2, "[40000]"),
+        ("slow_dynamic", 5 * 6 * 2, "[2000]"),
+        ("uni", 6 * 2 * 3, "[2000, 4000, 18000]"),
     ] {
         let script =
             std::fs::read_to_string(out.join(study).join("runs/sweep.sbatch")).expect("job array");
@@ -118,10 +153,7 @@ fn slurm_mode_writes_one_job_array_per_study_and_runs_nothing() {
             "{study}:\n{script}"
         );
         let sweep = std::fs::read_to_string(out.join(study).join("sweep.toml")).unwrap();
-        assert!(
-            sweep.contains(&format!("monomers = [{monomers}]")),
-            "{sweep}"
-        );
+        assert!(sweep.contains(&format!("monomers = {sizes}")), "{sweep}");
         assert!(
             !out.join(study).join("runs/sweep.csv").exists(),
             "{study} ran"

@@ -170,3 +170,78 @@ pub fn run_front_speed(profiles: &[Profile], opt: &FrontOptions) -> Option<Front
 pub fn combine_seeds(v_p: &[f64]) -> Option<Spread> {
     spread(v_p)
 }
+
+/// The front read as Seizinger et al. (2012, Sect. 5.2) describe it: "the height where the
+/// initial and current filling factor profile deviate from each other", its distance below
+/// the wall's starting height, over "the time that has passed since the start". One value
+/// per profile whose front lies in the middle half of the sample (away from the layer's
+/// formation under the wall and from the bottom); their mean, with the number of profiles.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ElapsedFront {
+    pub v: f64,
+    pub profiles: usize,
+}
+
+/// [`ElapsedFront`] of one run; `deviation` is the excess over the initial slab that counts
+/// as a deviation. `None` without the initial wall height or a profile in the middle half.
+pub fn elapsed_front_speed(profiles: &[Profile], deviation: f64) -> Option<ElapsedFront> {
+    let (initial, rest) = profiles.split_first()?;
+    let top = initial.wall_m?;
+    let bottom = initial.bottom_m();
+    let opt = FrontOptions {
+        threshold: deviation,
+        ..FrontOptions::default()
+    };
+    let middle = |z: f64| {
+        let x = (z - bottom) / (top - bottom);
+        (0.25..=0.75).contains(&x)
+    };
+    let speeds: Vec<f64> = rest
+        .iter()
+        .filter(|p| p.time_s > initial.time_s)
+        .filter_map(|p| front_height(initial, p, &opt))
+        .filter(|f| !f.reached_bottom && middle(f.front_m))
+        .map(|f| (top - f.front_m) / (f.time_s - initial.time_s))
+        .collect();
+    let s = spread(&speeds)?;
+    Some(ElapsedFront {
+        v: s.mean,
+        profiles: s.count,
+    })
+}
+
+/// The dense layer's mean φ between the front (found with `opt`) and the wall, over the
+/// profiles whose front lies in the middle half of the sample, and the front speed that mass
+/// conservation then requires: the wall sweeps up φ₀ and leaves φ_layer, so
+/// v_p = v_wall / (1 − φ₀/φ_layer). Returns (φ_layer, v_p) for the wall speed `v_wall`.
+pub fn mass_balance_front(
+    profiles: &[Profile],
+    opt: &FrontOptions,
+    v_wall: f64,
+) -> Option<(f64, f64)> {
+    let (initial, rest) = profiles.split_first()?;
+    let top = initial.wall_m?;
+    let bottom = initial.bottom_m();
+    let phi0 = initial.phi_mean;
+    let mut layers = Vec::new();
+    for p in rest {
+        let (Some(f), Some(wall)) = (front_height(initial, p, opt), p.wall_m) else {
+            continue;
+        };
+        let x = (f.front_m - bottom) / (top - bottom);
+        if f.reached_bottom || !(0.25..=0.75).contains(&x) {
+            continue;
+        }
+        // Whole slabs between the front and the wall; the one the wall cuts is left out.
+        let half = 0.5 * p.thickness_m;
+        let inside: Vec<f64> = (0..p.z_m.len())
+            .filter(|&k| p.z_m[k] - half >= f.front_m && p.z_m[k] + half <= wall)
+            .map(|k| p.phi[k])
+            .collect();
+        if let Some(s) = spread(&inside) {
+            layers.push(s.mean);
+        }
+    }
+    let layer = spread(&layers)?.mean;
+    (layer > phi0).then(|| (layer, v_wall / (1.0 - phi0 / layer)))
+}

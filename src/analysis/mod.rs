@@ -1,5 +1,6 @@
 //! Post-processing of simulation output.
 pub mod average;
+pub mod ensemble;
 pub mod envelope;
 pub mod fit;
 pub mod front;

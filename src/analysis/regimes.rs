@@ -14,11 +14,19 @@
 #[cfg(test)]
 mod tests;
 
+use super::average::{spread, Spread};
+
 /// Control of [`find_regimes`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RegimeOptions {
-    /// Fewest rows of each regime (a line with a residual needs three).
+    /// Fewest rows of the plateau and of the steep rise (a line with a residual needs three).
     pub min_rows: usize,
+    /// Fewest rows of regime (i). Default 0: at high wall speed the wall's first impact
+    /// raises the pressure from zero to the plateau's within the first row (100 steps,
+    /// 30 ns: at 15 m/s 0.45 µm of wall travel, φ + 0.001), so regime (i) lies before the
+    /// first row with a pressure; a regime (i) of fewer than two rows counts as infinitely
+    /// steep, and its φ rise is the first row's over the start.
+    pub min_first_rows: usize,
     /// Largest rise of φ through regime (i) that still counts as no compaction. Default
     /// 0.01, a fifteenth of the starting φ ≈ 0.15.
     pub phi_tol: f64,
@@ -30,6 +38,7 @@ impl Default for RegimeOptions {
     fn default() -> Self {
         Self {
             min_rows: 3,
+            min_first_rows: 0,
             phi_tol: 0.01,
             plateau_ratio: 4.0,
         }
@@ -108,23 +117,29 @@ fn line(x: &[f64], y: &[f64]) -> (f64, f64) {
     }
 }
 
+/// Row positions `lo..hi` as abscissae.
+fn rows_of(lo: usize, hi: usize) -> Vec<f64> {
+    (lo..hi).map(|i| i as f64).collect()
+}
+
 /// Finds the regimes of `curve`, points (P [Pa], φ) in time order at equal time steps
 /// (rows with P ≤ 0 or not finite are left out of the fit). `None` with fewer than
-/// `3 · min_rows` usable rows.
+/// `min_first_rows + 2 · min_rows` usable rows.
 pub fn find_regimes(curve: &[(f64, f64)], opt: &RegimeOptions) -> Option<Regimes> {
     let keep: Vec<usize> = (0..curve.len())
         .filter(|&i| curve[i].0.is_finite() && curve[i].0 > 0.0 && curve[i].1.is_finite())
         .collect();
     let n = keep.len();
     let m = opt.min_rows.max(2);
-    if n < 3 * m {
+    let m1 = opt.min_first_rows;
+    if n < m1 + 2 * m {
         return None;
     }
     let y: Vec<f64> = keep.iter().map(|&i| curve[i].0.log10()).collect();
     let phi: Vec<f64> = keep.iter().map(|&i| curve[i].1).collect();
     let sums = Sums::new(&y);
     let mut best = (f64::INFINITY, 0, 0);
-    for a in m..=n - 2 * m {
+    for a in m1..=n - 2 * m {
         let first = sums.rss(0, a);
         for b in a + m..=n - m {
             let total = first + sums.rss(a, b) + sums.rss(b, n);
@@ -133,16 +148,27 @@ pub fn find_regimes(curve: &[(f64, f64)], opt: &RegimeOptions) -> Option<Regimes
             }
         }
     }
-    let (_, a, b) = best;
+    let (_, mut a, mut b) = best;
+    // A falling first piece is the decay of the wall's impact spike, not regime (i): the
+    // pressure then reached the plateau within the first row, so split the rest in two.
+    if a >= 2 && line(&rows_of(0, a), &y[..a]).0 < 0.0 {
+        a = 0;
+        b = (m..=n - m)
+            .min_by(|&p, &q| {
+                let cost = |k: usize| sums.rss(0, k) + sums.rss(k, n);
+                cost(p).total_cmp(&cost(q))
+            })
+            .expect("n ≥ 2m");
+    }
 
-    let rows = |lo: usize, hi: usize| -> Vec<f64> { (lo..hi).map(|i| i as f64).collect() };
-    let (plateau_slope, plateau_icpt) = line(&rows(a, b), &y[a..b]);
+    let (plateau_slope, plateau_icpt) = line(&rows_of(a, b), &y[a..b]);
     let at = |i: usize| 10f64.powf(plateau_icpt + plateau_slope * i as f64);
     let mut plateau: Vec<f64> = y[a..b].to_vec();
     plateau.sort_by(f64::total_cmp);
     let median = 0.5 * (plateau[(b - a - 1) / 2] + plateau[(b - a) / 2]);
     let slopes = [(0, a), (a, b), (b, n)].map(|(lo, hi)| line(&phi[lo..hi], &y[lo..hi]).0);
-    let phi_rise = phi[a] - phi[0];
+    // From the curve's first row as given (the start, before any pressure was measured).
+    let phi_rise = phi[a] - curve[0].1;
     let flat = slopes[1].abs() * opt.plateau_ratio;
     let three_regimes = phi_rise <= opt.phi_tol && flat < slopes[0] && flat < slopes[2];
     Some(Regimes {
@@ -157,4 +183,34 @@ pub fn find_regimes(curve: &[(f64, f64)], opt: &RegimeOptions) -> Option<Regimes
         phi_rise_before_critical: phi_rise,
         three_regimes,
     })
+}
+
+/// The regimes of several runs of one case (seeds), each found on its own time-ordered rows.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RegimeSummary {
+    pub runs: usize,
+    /// Runs whose split matches the paper's description.
+    pub three_regimes: usize,
+    /// Over those runs: critical pressure, plateau pressure [Pa], φ where the steep rise starts.
+    pub critical_pa: Option<Spread>,
+    pub plateau_pa: Option<Spread>,
+    pub phi_steep: Option<Spread>,
+}
+
+/// [`find_regimes`] on each run's rows (P [Pa], φ) in time order, then over the runs. A seed
+/// average is no input for this: its rows are not equally spaced in time.
+pub fn regimes_of_runs(runs: &[&[(f64, f64)]], opt: &RegimeOptions) -> RegimeSummary {
+    let found: Vec<Regimes> = runs
+        .iter()
+        .filter_map(|r| find_regimes(r, opt))
+        .filter(|r| r.three_regimes)
+        .collect();
+    let over = |f: fn(&Regimes) -> f64| spread(&found.iter().map(f).collect::<Vec<_>>());
+    RegimeSummary {
+        runs: runs.len(),
+        three_regimes: found.len(),
+        critical_pa: over(|r| r.critical_pressure),
+        plateau_pa: over(|r| r.plateau_pressure),
+        phi_steep: over(|r| r.phi_at_steep_start),
+    }
 }

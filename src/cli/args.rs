@@ -181,11 +181,16 @@ pub(super) enum Command {
     /// OUT/REPRODUCTION.md beside the paper's numbers. Running it again resumes the sweeps.
     Reproduce {
         /// smoke (a minute, tests the pipeline), quick (about an hour on two cores, scaled-down
-        /// samples) or full (the paper's sizes and six seeds: a GPU or a cluster).
+        /// samples) or paper (the dynamic study at the paper's size, the slow studies at sizes
+        /// two cores finish beside the paper's: accumulates over runs, a cluster or a GPU).
         #[arg(long, value_enum, default_value = "quick")]
         tier: crate::reproduce::Tier,
         #[arg(long, default_value = "reproduction")]
         out: PathBuf,
+        /// Where the sweeps run, one directory per study (default: OUT/<study>/runs). Only
+        /// the compact store of finished cases is kept under OUT.
+        #[arg(long)]
+        runs: Option<PathBuf>,
         /// Cases at once in each sweep (1 to 1024; default: the logical CPUs).
         #[arg(long)]
         jobs: Option<usize>,
@@ -193,7 +198,8 @@ pub(super) enum Command {
         /// `dustdem reproduce --report-only` with the same --tier and --out).
         #[arg(long, conflicts_with = "report_only")]
         slurm: bool,
-        /// Only collect and analyse the sweeps' results and write REPRODUCTION.md.
+        /// Run nothing: store the cases that finished (if the runs directory exists) and
+        /// write REPRODUCTION.md from the store.
         #[arg(long)]
         report_only: bool,
     },

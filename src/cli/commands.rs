@@ -493,6 +493,7 @@ pub(super) fn sweep_analyze(dir: &Path) -> Result<(), String> {
 pub(super) fn reproduce(
     tier: crate::reproduce::Tier,
     out: PathBuf,
+    runs: Option<PathBuf>,
     jobs: Option<usize>,
     slurm: bool,
     report_only: bool,
@@ -501,6 +502,7 @@ pub(super) fn reproduce(
     let request = crate::reproduce::Request {
         tier,
         out,
+        runs,
         jobs: in_range("--jobs", jobs.unwrap_or(cores), 1, 1024)?,
         slurm,
         report_only,

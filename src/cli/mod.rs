@@ -101,10 +101,11 @@ pub fn main() -> ExitCode {
         Command::Reproduce {
             tier,
             out,
+            runs,
             jobs,
             slurm,
             report_only,
-        } => reproduce(tier, out, jobs, slurm, report_only),
+        } => reproduce(tier, out, runs, jobs, slurm, report_only),
         Command::Sweep {
             action: None,
             sweep: file,

@@ -105,6 +105,20 @@ pub enum FootprintKind {
     Cylinder,
 }
 
+/// What is done with the rough top of an RBD sample.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SampleTop {
+    /// As deposited: the fluffy surface stays, and the top wall starts on its highest monomer.
+    #[default]
+    Rough,
+    /// Deposited until `monomers` lie wholly below a height equal to the footprint's side (for
+    /// a cylinder, the side of the square of the same area), the rest removed: a sample as tall
+    /// as it is wide with the bulk's filling factor, as Seizinger et al. (2012, Sect. 5.2)
+    /// describe theirs ("base length and height of ≈ 60 µm" at 40 000 monomers).
+    Cut,
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SampleConfig {
@@ -118,6 +132,8 @@ pub struct SampleConfig {
     pub seed: u64,
     /// Sample file, for `source = "file"` (relative paths are relative to the config file).
     pub file: Option<PathBuf>,
+    /// The rough top as deposited, or cut flat (RBD only).
+    pub top: SampleTop,
 }
 
 impl Default for SampleConfig {
@@ -130,6 +146,7 @@ impl Default for SampleConfig {
             cylinder_radius_um: 0.0,
             seed: 1,
             file: None,
+            top: SampleTop::Rough,
         }
     }
 }

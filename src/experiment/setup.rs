@@ -1,8 +1,10 @@
 //! Builds the initial state of an experiment from a config: sample, monomers, walls.
 
-use crate::config::{Config, ExperimentKind, FootprintKind, SampleSource};
+use crate::config::{Config, ExperimentKind, FootprintKind, SampleSource, SampleTop};
 use crate::model::ContactLaw;
-use crate::sample::{generate_rbd, side_for_cube, Footprint, RbdParams, Sample};
+use crate::sample::{
+    generate_rbd, generate_rbd_below, side_for_cube, Footprint, RbdParams, Sample,
+};
 use crate::state::order::space_filling_order;
 use crate::state::{Monomers, Wall};
 use glam::DVec3;
@@ -50,14 +52,13 @@ pub fn build_sample(config: &Config, law: &ContactLaw) -> Result<Sample, SetupEr
         }
         SampleSource::Rbd => {
             let cube_side = side_for_cube(s.monomers, r, RBD_FILLING_FACTOR);
+            let box_side = if s.side_um > 0.0 {
+                s.side_um * 1e-4
+            } else {
+                cube_side
+            };
             let footprint = match s.footprint {
-                FootprintKind::Box => Footprint::Box {
-                    side: if s.side_um > 0.0 {
-                        s.side_um * 1e-4
-                    } else {
-                        cube_side
-                    },
-                },
+                FootprintKind::Box => Footprint::Box { side: box_side },
                 FootprintKind::Cylinder => Footprint::Cylinder {
                     radius: if s.cylinder_radius_um > 0.0 {
                         s.cylinder_radius_um * 1e-4
@@ -66,13 +67,29 @@ pub fn build_sample(config: &Config, law: &ContactLaw) -> Result<Sample, SetupEr
                     },
                 },
             };
-            Ok(generate_rbd(&RbdParams {
+            // A cylinder's "side" is that of the square of the same base area.
+            let side = match footprint {
+                Footprint::Box { side } => side,
+                Footprint::Cylinder { radius } => radius * std::f64::consts::PI.sqrt(),
+            };
+            let params = RbdParams {
                 n: s.monomers,
                 radius: r,
                 footprint,
                 seed: s.seed,
                 contact_distance: 2.0 * r - law.pair.delta0,
-            }))
+            };
+            match s.top {
+                SampleTop::Rough => Ok(generate_rbd(&params)),
+                SampleTop::Cut => generate_rbd_below(&params, side).map_err(|e| {
+                    SetupError::Invalid(format!(
+                        "[sample] top = \"cut\" with monomers = {} and a side of {:.2} µm: {e}; \
+                         use fewer monomers, a larger side_um, or top = \"rough\"",
+                        s.monomers,
+                        side * 1e4
+                    ))
+                }),
+            }
         }
     }
 }

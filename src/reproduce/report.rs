@@ -1,251 +1,349 @@
-//! REPRODUCTION.md: each of the paper's results (physics.md, "The paper's results") beside
-//! what the tier's runs give.
+//! REPRODUCTION.md as a referee would want it: the conditions of the paper beside ours, one
+//! table of verdicts, the differences of method that remain, then the measurements of each
+//! study. Built from the tier's store alone, so the same store gives the same bytes.
 
-use super::{Request, Study, StudyKind, Tier};
-use crate::analysis::fit::Eq13;
-use crate::job::figure::{BLUM_SCHRAEPLER_2004_UNI, GUETTLER_2009_OMNI};
-use crate::sweep::analyze::{
-    analyze_cases, first_seeds, profile_figure_name, rms_against, CaseData, Family,
-};
+use super::analysis::{reference, Family, SpeedResult};
+use super::figures;
+use super::laws::{speed_laws, Law, Laws};
+use super::store::CaseRecord;
+use super::verdicts::{self, sig, Claim};
+use super::{Study, StudyKind, Tier, CALIBRATED, UNMODIFIED};
+use crate::analysis::average::Spread;
+use crate::analysis::ensemble::EnsembleFit;
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-/// One study after its sweep ran and was analysed.
+/// One study with its stored cases analysed.
 pub struct Analysed {
     pub study: Study,
-    pub runs: PathBuf,
-    pub cases: Vec<CaseData>,
-    /// Wall-clock seconds of its sweep in this call (None: run earlier, e.g. by Slurm).
-    pub seconds: Option<f64>,
-    /// Wall-clock seconds of each case's attempts (from the cases' status files), whenever
-    /// they ran.
-    pub case_seconds: Vec<f64>,
+    pub cases: Vec<CaseRecord>,
+    pub families: Vec<Family>,
 }
 
-/// Pressures at which the measured curves' φ is listed beside ours [Pa].
-const LISTED_PRESSURES: [f64; 4] = [1e2, 1e3, 1e4, 1e5];
-
-fn relative(path: &Path, base: &Path) -> String {
-    path.strip_prefix(base)
-        .unwrap_or(path)
-        .display()
-        .to_string()
+fn headline<'a>(a: &'a Analysed, variant: &str) -> Option<&'a Family> {
+    a.families
+        .iter()
+        .filter(|f| f.variant == variant)
+        .max_by_key(|f| f.monomers)
 }
 
-/// The seed-mean φ at `p`, by linear interpolation in log P of the family's average at
-/// `speed` (None beyond the pressures the seeds reached).
-fn mean_phi_at(f: &Family, speed: f64, p: f64) -> Option<f64> {
-    let g = f.speeds.iter().find(|g| g.wall_speed == speed)?;
-    let a = &g.average;
-    let k = a.iter().position(|x| x.p >= p)?;
-    if k == 0 {
-        return (a[0].p == p).then_some(a[0].mean);
-    }
-    let (lo, hi) = (&a[k - 1], &a[k]);
-    let t = (p.log10() - lo.p.log10()) / (hi.p.log10() - lo.p.log10());
-    Some(lo.mean + t * (hi.mean - lo.mean))
+fn conditions(f: &Family, a: &Analysed) -> String {
+    let seeds = f.speeds.iter().map(|s| s.seeds.len()).max().unwrap_or(0);
+    let planned = a.study.seeds.len();
+    format!("ours: {} monomers, {seeds} of {planned} seeds", f.monomers)
 }
 
-fn header(s: &mut String, a: &Analysed, base: &Path) {
-    let st = &a.study;
-    let time = a.seconds.map_or("not timed in this call".into(), |t| {
-        format!("{t:.0} s wall-clock in this call")
-    });
-    let cases = &a.case_seconds;
-    let case_time = if cases.is_empty() {
-        String::new()
-    } else {
-        let lo = cases.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = cases.iter().copied().fold(0.0, f64::max);
-        format!(
-            " The cases took {:.0} s in all ({lo:.0}–{hi:.0} s each).",
-            cases.iter().sum::<f64>()
-        )
-    };
-    let _ = writeln!(
-        s,
-        "{n} monomers, wall speeds {v:?} m/s, seeds {seeds:?}, models: {models}; {time}.\
-         {case_time} Runs and the full analysis: `{runs}/` (`analysis.md`, figures).\n",
-        n = st.monomers,
-        v = st.speeds,
-        seeds = st.seeds,
-        models = if st.modified_too {
-            "unmodified and modified (m_r = 8, m_s = 2.5)"
+fn study<'a>(all: &'a [Analysed], name: &str) -> Option<&'a Analysed> {
+    all.iter().find(|a| a.study.name == name)
+}
+
+fn speed_of(f: Option<&Family>, v: f64) -> Option<&SpeedResult> {
+    f?.speeds.iter().find(|s| s.speed == v)
+}
+
+/// Every claim of the paper, in the order of its Sect. 5.
+pub fn claims(all: &[Analysed]) -> Vec<Claim> {
+    let mut out = Vec::new();
+    for (name, kind) in [("quasi_static", "omni"), ("uni", "uni")] {
+        let Some(a) = study(all, name) else { continue };
+        let (ref_name, refc) = reference(a.study.kind);
+        let slowest = a.study.speeds.iter().copied().fold(f64::INFINITY, f64::min);
+        let (soft, agree, cap) = if kind == "omni" {
+            (
+                "Quasi-static omni, unmodified model: softer than Güttler at low pressure",
+                "Quasi-static omni, calibrated model: agrees with Güttler below 100 kPa",
+                vec![1e2, 1e3, 1e4, 1e5],
+            )
         } else {
-            "unmodified"
-        },
-        runs = relative(&a.runs, base),
-    );
+            (
+                "Unidirectional, unmodified model: softer than Blum & Schräpler",
+                "Unidirectional, calibrated model: agrees with Blum & Schräpler below 10⁴ Pa",
+                vec![1e2, 1e3, 1e4],
+            )
+        };
+        let paper = format!(
+            "{ref_name}; {} cm/s, paper-size samples, 6 seeds",
+            slowest * 100.0
+        );
+        for (claim, variant, too_soft) in [
+            (soft, UNMODIFIED.name, true),
+            (agree, CALIBRATED.name, false),
+        ] {
+            let f = headline(a, variant);
+            let mut c = verdicts::curve_claim(
+                claim,
+                &paper,
+                speed_of(f, slowest),
+                (ref_name, &refc),
+                &cap,
+                too_soft,
+            );
+            if let Some(f) = f {
+                c.paper += &format!("; {}", conditions(f, a));
+            }
+            out.push(c);
+        }
+    }
+    for name in ["dynamic", "slow_dynamic"] {
+        let Some(a) = study(all, name) else { continue };
+        let Some(f) = headline(a, CALIBRATED.name) else {
+            continue;
+        };
+        let cond = format!("calibrated model; {}", conditions(f, a));
+        if name == "dynamic" {
+            out.push(verdicts::regimes_claim(f));
+            out.push(verdicts::front_claim(f));
+        }
+        out.extend(verdicts::per_speed_claims(f, &cond));
+        let laws = speed_laws(f);
+        let all_laws = verdicts::law_claims(&laws, &cond);
+        // Eqs. 15–17 from the dynamic study, Eq. 14 and v_crit from the slow one.
+        let keep = if name == "dynamic" { 0..3 } else { 3..4 };
+        out.extend(all_laws.into_iter().take(keep.end).skip(keep.start));
+    }
+    out
 }
 
-fn figure(s: &mut String, a: &Analysed, base: &Path, prefix: &str, f: &Family) {
-    let name = format!("{prefix}_{}_n{}.svg", f.variant, f.monomers);
+fn pm_delta(e: &Option<EnsembleFit>) -> String {
+    match e {
+        None => "no fit | –".into(),
+        Some(e) => format!(
+            "{} ± {} | {} ± {}",
+            sig(e.mean_fit.params.p_m / 1e3),
+            sig(e.err.p_m / 1e3),
+            sig(e.mean_fit.params.delta),
+            sig(e.err.delta)
+        ),
+    }
+}
+
+fn spread_cell(s: &Option<Spread>, scale: f64) -> String {
+    match s {
+        None => "–".into(),
+        Some(s) if s.count > 1 => format!("{} ± {}", sig(s.mean * scale), sig(s.sem * scale)),
+        Some(s) => sig(s.mean * scale),
+    }
+}
+
+fn family_table(s: &mut String, f: &Family, kind: StudyKind) {
     let _ = writeln!(
         s,
-        "![{prefix} {}]({})\n",
-        f.variant,
-        relative(&a.runs.join(name), base)
+        "| v [m/s] | seeds | φ₀ | p_m [kPa] (φ₁, φ₂ held) | Δ | φ₁ free: φ₁ | p_m | Δ | first passage: p_m | Δ | CPU time [s] |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|"
     );
-}
-
-/// φ of each model beside a measured curve at the listed pressures, and the RMS difference.
-fn comparison(
-    s: &mut String,
-    families: &[Family],
-    speed: f64,
-    reference: (&str, &Eq13),
-    range: (f64, f64),
-) {
-    let _ = write!(s, "| model | ");
-    for p in LISTED_PRESSURES {
-        let _ = write!(s, "φ at {p:.0e} Pa | ");
+    for r in &f.speeds {
+        let free = match &r.phi1_free {
+            None => "– | – | –".into(),
+            Some(e) => format!(
+                "{} ± {} | {}",
+                sig(e.mean_fit.params.phi1),
+                sig(e.err.phi1),
+                pm_delta(&r.phi1_free)
+            ),
+        };
+        let passage = r.first_passage.as_ref().map_or("– | –".into(), |f| {
+            format!("{} | {}", sig(f.params.p_m / 1e3), sig(f.params.delta))
+        });
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.4} | {} | {free} | {passage} | {:.0} |",
+            r.speed,
+            r.seeds.len(),
+            r.phi0.mean,
+            pm_delta(&r.fixed),
+            r.wall_clock_s
+        );
     }
-    let _ = writeln!(s, "RMS Δφ over {:.0e}–{:.0e} Pa |", range.0, range.1);
-    let _ = writeln!(s, "|---|{}---|", "---|".repeat(LISTED_PRESSURES.len()));
-    let _ = write!(s, "| {} (Eq. 13) | ", reference.0);
-    for p in LISTED_PRESSURES {
-        let _ = write!(s, "{:.4} | ", reference.1.phi(p));
-    }
-    let _ = writeln!(s, "– |");
-    for f in families {
-        let _ = write!(s, "| {} | ", f.variant);
-        for p in LISTED_PRESSURES {
-            let cell = mean_phi_at(f, speed, p).map_or("not reached".into(), |x| format!("{x:.4}"));
-            let _ = write!(s, "{cell} | ");
+    if kind == StudyKind::Dynamic && f.speeds.iter().any(|r| r.regimes.is_some()) {
+        s.push_str(
+            "\n| v [m/s] | runs with three regimes | critical P [kPa] | plateau P [kPa] | φ at the steep rise | v_p first deviation [m/s] | ÷ v_wall | v_p robust [m/s] | mass balance [m/s] | φ of the layer |\n\
+             |---|---|---|---|---|---|---|---|---|---|\n",
+        );
+        for r in f.speeds.iter().filter(|r| r.regimes.is_some()) {
+            let g = r.regimes.expect("filtered");
+            let ratio = r
+                .front_elapsed
+                .map_or("–".into(), |e| sig(e.mean / r.speed));
+            let _ = writeln!(
+                s,
+                "| {} | {} of {} | {} | {} | {} | {} | {ratio} | {} | {} | {} |",
+                r.speed,
+                g.three_regimes,
+                g.runs,
+                spread_cell(&g.critical_pa, 1e-3),
+                spread_cell(&g.plateau_pa, 1e-3),
+                spread_cell(&g.phi_steep, 1.0),
+                spread_cell(&r.front_elapsed, 1.0),
+                spread_cell(&r.front_robust, 1.0),
+                spread_cell(&r.front_mass_balance, 1.0),
+                spread_cell(&r.layer_phi, 1.0),
+            );
         }
-        let rms = f
-            .speeds
-            .iter()
-            .find(|g| g.wall_speed == speed)
-            .and_then(|g| {
-                let points: Vec<(f64, f64)> = g.average.iter().map(|a| (a.p, a.mean)).collect();
-                rms_against(&points, reference.1, range)
-            })
-            .map_or("–".into(), |(r, n)| format!("{r:.4} ({n} points)"));
-        let _ = writeln!(s, "{rms} |");
     }
     s.push('\n');
 }
 
-fn limits(tier: Tier) -> &'static str {
-    match tier {
-        Tier::Smoke => {
-            "The smoke tier's samples (150–300 monomers) are far too small for any of the \
-             paper's effects; it exists to test the pipeline."
+fn law_line<L>(s: &mut String, name: &str, law: &Law<L>, show: impl Fn(&L, &L) -> String) {
+    let text = match law {
+        Law::Fitted(f) => format!(
+            "{} (χ²/dof {:.2})",
+            show(&f.law, &f.std_err),
+            f.chi2_per_dof
+        ),
+        Law::Unconstrained(why) => format!("not reported: {why}"),
+    };
+    let _ = writeln!(s, "- {name}: {text}");
+}
+
+fn laws_text(s: &mut String, laws: &Laws) {
+    let pm = |l: &crate::analysis::speed_laws::PowerLaw,
+              e: &crate::analysis::speed_laws::PowerLaw| {
+        format!(
+            "a = {} ± {}, b = {} ± {}, c = {} ± {} kPa",
+            sig(l.a),
+            sig(e.a),
+            sig(l.b),
+            sig(e.b),
+            sig(l.c),
+            sig(e.c)
+        )
+    };
+    law_line(
+        s,
+        "Eq. 15, p_m = a v^b + c (paper: 1.340, 1.93, 0.307)",
+        &laws.pm_dynamic,
+        pm,
+    );
+    law_line(
+        s,
+        "Eq. 16, b = 2 (paper: a = 1.087, c = 0.560)",
+        &laws.pm_square,
+        pm,
+    );
+    law_line(
+        s,
+        "Eq. 17, Δ = (v + a)^b + c (paper: 1.598, −1.997, 0.170)",
+        &laws.delta,
+        |l, e| {
+            format!(
+                "a = {} ± {}, b = {} ± {}, c = {} ± {}",
+                sig(l.a),
+                sig(e.a),
+                sig(l.b),
+                sig(e.b),
+                sig(l.c),
+                sig(e.c)
+            )
+        },
+    );
+    law_line(
+        s,
+        "Eq. 14, p_m = a v² + b v + c (paper: 18.296, −33.663, 16.667)",
+        &laws.pm_slow,
+        |l, e| {
+            format!(
+                "a = {} ± {}, b = {} ± {}, c = {} ± {} kPa",
+                sig(l.a),
+                sig(e.a),
+                sig(l.b),
+                sig(e.b),
+                sig(l.c),
+                sig(e.c)
+            )
+        },
+    );
+    let _ = writeln!(
+        s,
+        "- v_crit = −b/(2a) of Eq. 14 (paper ≈ 0.9 m/s): {}\n",
+        match &laws.v_crit {
+            Ok((v, e)) => format!("{} ± {} m/s", sig(*v), sig(*e)),
+            Err(why) => format!("not reported: {why}"),
         }
-        Tier::Quick => {
-            "Scaled down from the paper: 1000 monomers (paper: about 11 000) make a box of \
-             about 18 µm, a few monomer chains across, so the curve's low-pressure part scatters \
-             between seeds by about 0.01 in φ; 5 cm/s is the paper's upper quasi-static speed \
-             (it found 5 cm/s and below to differ little). The dynamic runs' 4000 monomers \
-             (paper: 40 000) give a sample of about 30 µm height, about 25 slabs, in which the \
-             compaction front crosses a few slabs before it reaches the bottom: v_p rests on \
-             few profiles. The unidirectional cylinder of 1000 monomers (paper: 18 000) has a \
-             large free surface for its volume, and runs at 10 cm/s (paper: 5 cm/s). The full tier (`--tier full`, for a GPU or a \
-             cluster with `--slurm`) uses the paper's sizes."
-        }
-        Tier::Full => "The paper's sizes and six seeds per case.",
+    );
+}
+
+fn study_section(s: &mut String, a: &Analysed, figures_dir: &str) {
+    let st = &a.study;
+    let planned = st.sizes.len() * st.speeds.len() * st.seeds.len() * st.variants.len();
+    let _ = writeln!(
+        s,
+        "## {}\n\nPlanned: sizes {:?} monomers, wall speeds {:?} m/s, seeds 1–{}, models {}: \
+         {planned} cases. Finished and stored: {}. Stop at φ = {} or a top-wall pressure of \
+         {} MPa, whichever comes first.\n",
+        st.title,
+        st.sizes,
+        st.speeds,
+        st.seeds.len(),
+        st.variants
+            .iter()
+            .map(|v| v.label)
+            .collect::<Vec<_>>()
+            .join(", "),
+        a.cases.len(),
+        st.phi_stop,
+        st.pressure_stop_pa / 1e6,
+    );
+    for f in &a.families {
+        let _ = writeln!(s, "### {} model, {} monomers\n", f.variant, f.monomers);
+        family_table(s, f, st.kind);
+        laws_text(s, &speed_laws(f));
+        let _ = writeln!(
+            s,
+            "![φ(P), {} model, {} monomers]({figures_dir}/{})\n",
+            f.variant,
+            f.monomers,
+            figures::curve_name(st.name, f)
+        );
     }
 }
 
 /// The whole report.
-pub fn markdown(request: &Request, studies: &[Analysed]) -> String {
-    let base = std::path::absolute(&request.out).unwrap_or_else(|_| request.out.clone());
+pub fn markdown(
+    tier: Tier,
+    all: &[Analysed],
+    store_bytes: u64,
+    speed_figures: &[String],
+) -> String {
     let mut s = format!(
-        "# Reproducing Seizinger, Speith & Kley (2012): {} tier\n\n",
-        request.tier
+        "# Seizinger et al. (2012) reproduced: {tier} tier\n\n\
+         Every number below is computed from the curves and profiles stored beside this file \
+         (`<study>/cases/`, {:.1} MB in all); `dustdem reproduce --tier {tier} --out <this \
+         directory> --report-only` rebuilds this file and its figures from them, byte for \
+         byte. Running the tier again runs only the cases not yet stored and adds them.\n\n",
+        store_bytes as f64 / 1e6
     );
-    let _ = writeln!(
-        s,
-        "Command: `dustdem reproduce --tier {} --out {} --jobs {}`, dustdem {}, on {}. Every \
-         number below comes from the runs under this directory; the model is the paper's, not \
-         tuned to its results.\n",
-        request.tier,
-        request.out.display(),
-        request.jobs,
-        env!("CARGO_PKG_VERSION"),
-        crate::bench::host()
-    );
-    for a in studies {
-        let families = analyze_cases(&a.cases);
-        let _ = writeln!(s, "## {}\n", a.study.title);
-        header(&mut s, a, &base);
-        match a.study.kind {
-            StudyKind::QuasiStatic => {
-                s += "Paper: the unmodified model's curve lies well above Güttler et al. (2009) \
-                      at low pressure (too soft); with m_r = 8, m_s = 2.5 it agrees very well \
-                      below 100 kPa, and above 300 kPa needs more than 1 MPa beyond φ ≈ 0.52.\n\n";
-                for &v in &a.study.speeds {
-                    let _ = writeln!(s, "At {v} m/s, seed means:\n");
-                    comparison(
-                        &mut s,
-                        &families,
-                        v,
-                        ("Güttler et al. 2009", &GUETTLER_2009_OMNI),
-                        (1e2, 1e5),
-                    );
+    s += include_str!("conditions.md");
+    s += "\n## Verdicts\n\n";
+    s += &verdicts::table(&claims(all));
+    s += "\n";
+    s += include_str!("differences.md");
+    if !speed_figures.is_empty() {
+        s += "\n## p_m and Δ against wall speed\n\n";
+        for name in speed_figures {
+            let _ = writeln!(s, "![{name}](figures/{name})\n");
+        }
+    }
+    for a in all {
+        study_section(&mut s, a, "figures");
+    }
+    s
+}
+
+/// Bytes of the stored cases under `dir`.
+pub fn store_size(dir: &Path) -> u64 {
+    let mut total = 0;
+    if let Ok(entries) = std::fs::read_dir(dir) {
+        for e in entries.flatten() {
+            let path = e.path();
+            if path.is_dir() {
+                // Run directories (checkpoints, full curves) are not part of the store.
+                if path.file_name().is_some_and(|n| n != "runs") {
+                    total += store_size(&path);
                 }
-                for f in &families {
-                    figure(&mut s, a, &base, "phi_p", f);
-                }
-            }
-            StudyKind::Dynamic => {
-                s += "Paper: three regimes (no compaction until a critical pressure, a plateau, \
-                      a steep rise); a dense layer forms under the wall and moves down at \
-                      v_p = 6.98 ± 0.16 m/s; p_m(v) = 1.340 v^1.93 + 0.307 kPa (or 1.087 v² + \
-                      0.560), Δ(v) = (v + 1.598)^−1.997 + 0.170.\n\n";
-                for f in &families {
-                    let table = crate::sweep::analyze::markdown(std::slice::from_ref(f), &[]);
-                    // The family's section of the sweep report, without its title lines.
-                    let body: Vec<&str> = table
-                        .lines()
-                        .skip_while(|l| !l.starts_with("## "))
-                        .skip(1)
-                        .collect();
-                    s += &body.join("\n");
-                    s += "\n";
-                    figure(&mut s, a, &base, "phi_p", f);
-                    figure(&mut s, a, &base, "pm_v", f);
-                    figure(&mut s, a, &base, "delta_v", f);
-                }
-                s += "Filling-factor profiles of the first seed at six times each, with the \
-                      compaction front (dotted, where found: the lowest height where φ exceeds \
-                      the initial profile by 0.05):\n\n";
-                for c in first_seeds(&a.cases) {
-                    let path = a.runs.join(profile_figure_name(c));
-                    if path.is_file() {
-                        let _ = writeln!(
-                            s,
-                            "![profiles at {} m/s]({})\n",
-                            c.wall_speed,
-                            relative(&path, &base)
-                        );
-                    }
-                }
-            }
-            StudyKind::Uni => {
-                s += "Paper: the unmodified model is too soft; the modified one agrees with Blum \
-                      & Schräpler (2004) below 10⁴ Pa but reaches higher φ.\n\n";
-                for &v in &a.study.speeds {
-                    let _ = writeln!(s, "At {v} m/s, seed means:\n");
-                    comparison(
-                        &mut s,
-                        &families,
-                        v,
-                        ("Blum & Schräpler 2004", &BLUM_SCHRAEPLER_2004_UNI),
-                        (1e2, 1e4),
-                    );
-                }
-                for f in &families {
-                    figure(&mut s, a, &base, "phi_p", f);
-                }
+            } else if path.extension().is_some_and(|x| x == "csv" || x == "toml") {
+                total += e.metadata().map_or(0, |m| m.len());
             }
         }
     }
-    let _ = writeln!(
-        s,
-        "## What this tier cannot show\n\n{}",
-        limits(request.tier)
-    );
-    s
+    total
 }

@@ -14,8 +14,10 @@ pub enum Tier {
     Smoke,
     /// About an hour on two CPU cores: scaled-down samples, three seeds.
     Quick,
-    /// The paper's sizes and six seeds: for a GPU or a cluster (`--slurm`).
-    Full,
+    /// The paper's dynamic study at its size, the slow studies at sizes two cores finish
+    /// beside the paper's (for a cluster or a GPU, `--slurm`); cases accumulate over runs.
+    #[value(alias = "full")]
+    Paper,
 }
 
 impl fmt::Display for Tier {
@@ -23,7 +25,7 @@ impl fmt::Display for Tier {
         f.write_str(match self {
             Tier::Smoke => "smoke",
             Tier::Quick => "quick",
-            Tier::Full => "full",
+            Tier::Paper => "paper",
         })
     }
 }
@@ -35,50 +37,109 @@ pub enum StudyKind {
     Uni,
 }
 
+/// A model variant of a study: its sweep name and its config overrides.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Variant {
+    pub name: &'static str,
+    /// What the report calls it.
+    pub label: &'static str,
+    /// The sweep file's inline table of overrides.
+    pub overrides: &'static str,
+}
+
+/// Seizinger et al.'s calibrated model (Sect. 5.1): rolling ×8, sliding ×2.5.
+pub const CALIBRATED: Variant = Variant {
+    name: "modified",
+    label: "calibrated (m_r = 8, m_s = 2.5)",
+    overrides: "{ rolling_modifier = 8, sliding_modifier = 2.5 }",
+};
+/// The Dominik–Tielens / Wada model as published.
+pub const UNMODIFIED: Variant = Variant {
+    name: "unmodified",
+    label: "unmodified",
+    overrides: "{}",
+};
+
 /// One sweep of a tier.
 #[derive(Clone, Debug)]
 pub struct Study {
     pub kind: StudyKind,
     pub name: &'static str,
     pub title: &'static str,
-    pub monomers: usize,
+    /// Sample sizes, smallest first; the largest is the one the verdicts read.
+    pub sizes: Vec<usize>,
     pub speeds: Vec<f64>,
     pub seeds: Vec<u64>,
-    /// Also the modified model (m_r = 8, m_s = 2.5) beside the unmodified one.
-    pub modified_too: bool,
+    /// The headline model first.
+    pub variants: Vec<Variant>,
     pub pressure_stop_pa: f64,
     pub phi_stop: f64,
     /// Profiles every this many rows (rows are 100 steps): dynamic runs are short.
     pub profile_every_rows: u64,
 }
 
+impl Study {
+    /// The largest sample size of the study.
+    pub fn monomers(&self) -> usize {
+        *self.sizes.iter().max().expect("a study has a size")
+    }
+}
+
+/// What changes between tiers: sizes, speeds and seeds of each study.
+struct Scale {
+    quasi_static: (Vec<usize>, Vec<f64>),
+    dynamic: (Vec<usize>, Vec<f64>),
+    slow_dynamic: (Vec<usize>, Vec<f64>),
+    uni: (Vec<usize>, f64),
+    seeds: u64,
+}
+
 impl Tier {
-    pub fn studies(self) -> Vec<Study> {
-        let (qs, dynamic, uni, seeds): (usize, usize, usize, u64) = match self {
-            Tier::Smoke => (150, 300, 150, 2),
-            Tier::Quick => (1000, 4000, 1000, 3),
-            Tier::Full => (11_000, 40_000, 18_000, 6),
-        };
-        let seeds: Vec<u64> = (1..=seeds).collect();
-        let (slow, dynamic_speeds, uni_speed) = match self {
-            Tier::Smoke => (vec![1.0], vec![2.0, 5.0], 1.0),
+    fn scale(self) -> Scale {
+        match self {
+            Tier::Smoke => Scale {
+                quasi_static: (vec![150], vec![1.0]),
+                dynamic: (vec![300], vec![2.0, 5.0]),
+                slow_dynamic: (vec![150], vec![0.5]),
+                uni: (vec![150], 1.0),
+                seeds: 2,
+            },
             // 5 cm/s is the slowest that two cores finish in the hour with the rest.
-            Tier::Quick => (vec![0.05], vec![1.0, 2.5, 5.0, 10.0, 15.0], 0.1),
-            Tier::Full => (
-                vec![0.01, 0.05],
-                vec![1.0, 2.5, 5.0, 7.5, 10.0, 15.0, 20.0, 25.0],
-                0.05,
-            ),
-        };
+            Tier::Quick => Scale {
+                quasi_static: (vec![1000], vec![0.05]),
+                dynamic: (vec![2000], vec![1.0, 2.5, 5.0, 10.0, 15.0]),
+                slow_dynamic: (vec![1000], vec![0.25, 0.5]),
+                uni: (vec![1000], 0.1),
+                seeds: 3,
+            },
+            // The paper's dynamic study at its size; the slow studies at the sizes two cores
+            // finish, with the paper's sizes (11 000, 18 000) exported for a cluster or a GPU.
+            Tier::Paper => Scale {
+                quasi_static: (vec![2000, 4000, 11_000], vec![0.01, 0.05]),
+                dynamic: (
+                    vec![40_000],
+                    vec![1.0, 2.5, 5.0, 7.5, 10.0, 15.0, 20.0, 25.0],
+                ),
+                slow_dynamic: (vec![2000], vec![0.1, 0.25, 0.5, 0.75, 1.0]),
+                uni: (vec![2000, 4000, 18_000], 0.05),
+                seeds: 6,
+            },
+        }
+    }
+
+    pub fn studies(self) -> Vec<Study> {
+        let scale = self.scale();
+        let seeds: Vec<u64> = (1..=scale.seeds).collect();
+        let both = vec![CALIBRATED, UNMODIFIED];
         vec![
             Study {
                 kind: StudyKind::QuasiStatic,
                 name: "quasi_static",
                 title: "Quasi-static omnidirectional compression",
-                monomers: qs,
-                speeds: slow,
+                sizes: scale.quasi_static.0,
+                speeds: scale.quasi_static.1,
                 seeds: seeds.clone(),
-                modified_too: true,
+                variants: both.clone(),
                 pressure_stop_pa: 1e6,
                 phi_stop: 0.7,
                 profile_every_rows: 100,
@@ -87,22 +148,34 @@ impl Tier {
                 kind: StudyKind::Dynamic,
                 name: "dynamic",
                 title: "Dynamic omnidirectional compression",
-                monomers: dynamic,
-                speeds: dynamic_speeds,
+                sizes: scale.dynamic.0,
+                speeds: scale.dynamic.1,
                 seeds: seeds.clone(),
-                modified_too: false,
+                variants: both.clone(),
                 pressure_stop_pa: 1e7,
-                phi_stop: 0.65,
+                phi_stop: 0.7,
                 profile_every_rows: 2,
+            },
+            Study {
+                kind: StudyKind::Dynamic,
+                name: "slow_dynamic",
+                title: "Omnidirectional compression below 1 m/s",
+                sizes: scale.slow_dynamic.0,
+                speeds: scale.slow_dynamic.1,
+                seeds: seeds.clone(),
+                variants: both.clone(),
+                pressure_stop_pa: 1e7,
+                phi_stop: 0.7,
+                profile_every_rows: 20,
             },
             Study {
                 kind: StudyKind::Uni,
                 name: "uni",
                 title: "Unidirectional compression",
-                monomers: uni,
-                speeds: vec![uni_speed],
+                sizes: scale.uni.0,
+                speeds: vec![scale.uni.1],
                 seeds,
-                modified_too: true,
+                variants: both,
                 pressure_stop_pa: 1e5,
                 phi_stop: 0.5,
                 profile_every_rows: 100,
@@ -117,7 +190,8 @@ fn list<T: fmt::Display>(items: &[T]) -> String {
 }
 
 impl Study {
-    /// The base config (everything the sweep's axes leave alone).
+    /// The base config (everything the sweep's axes leave alone). Samples are cut flat at a
+    /// height equal to their width (`top = "cut"`), as Seizinger et al. (2012) describe theirs.
     pub fn base_config(&self) -> String {
         let (kind, footprint) = match self.kind {
             StudyKind::Uni => ("uni", "cylinder"),
@@ -125,13 +199,14 @@ impl Study {
         };
         format!(
             "# {title} (written by dustdem reproduce).\n\
-             [sample]\nsource = \"rbd\"\nmonomers = {n}\nfootprint = \"{footprint}\"\nseed = 1\n\n\
+             [sample]\nsource = \"rbd\"\nmonomers = {n}\nfootprint = \"{footprint}\"\n\
+             top = \"cut\"\nseed = 1\n\n\
              [experiment]\nkind = \"{kind}\"\nwall_speed_m_s = 1.0\nphi_stop = {phi}\n\
              pressure_stop_pa = {p:e}\nprofile_every_rows = {profiles}\n\n\
              [integration]\ndt_ns = 0.3\n\n\
              [output]\ndir = \"runs\"\nsnapshot_format = \"none\"\ncheckpoint_minutes = 5.0\n",
             title = self.title,
-            n = self.monomers,
+            n = self.monomers(),
             phi = self.phi_stop,
             p = self.pressure_stop_pa,
             profiles = self.profile_every_rows,
@@ -142,14 +217,14 @@ impl Study {
     pub fn sweep_file(&self) -> String {
         let mut text = format!(
             "# {} (written by dustdem reproduce).\nbase = \"base.toml\"\n\n[axes]\n\
-             wall_speed_m_s = {}\nseed = {}\nmonomers = [{}]\n\n[variants]\nunmodified = {{}}\n",
+             wall_speed_m_s = {}\nseed = {}\nmonomers = {}\n\n[variants]\n",
             self.title,
             list(&self.speeds),
             list(&self.seeds),
-            self.monomers
+            list(&self.sizes),
         );
-        if self.modified_too {
-            text += "modified = { rolling_modifier = 8, sliding_modifier = 2.5 }\n";
+        for v in &self.variants {
+            text += &format!("{} = {}\n", v.name, v.overrides);
         }
         text
     }

@@ -14,7 +14,7 @@ pub use profile::{
     filling_factor_profile, interior_filling_factor, slab_profile, INTERIOR_MARGIN_CONTACTS,
     INTERIOR_Z_HI_FRACTION, INTERIOR_Z_LO_FRACTION,
 };
-pub use rbd::{generate_rbd, side_for_cube, RbdParams};
+pub use rbd::{generate_rbd, generate_rbd_below, side_for_cube, RbdParams};
 
 /// Horizontal cross-section of the container, centred on `x = y = 0`.
 #[derive(Clone, Debug, PartialEq)]

@@ -48,6 +48,18 @@ pub fn side_for_cube(n: usize, radius: f64, target_phi: f64) -> f64 {
 /// If the radius or contact distance is not positive and finite, or the
 /// footprint is narrower than one monomer.
 pub fn generate_rbd(p: &RbdParams) -> Sample {
+    let half = validated_half_width(p);
+    let mut rng = Rng::new(p.seed);
+    let mut grid = ColumnGrid::new(half, p.contact_distance);
+    let mut positions = Vec::with_capacity(p.n);
+    for _ in 0..p.n {
+        positions.push(deposit_one(p, &mut grid, &mut rng));
+    }
+    sample_of(p, positions)
+}
+
+/// The footprint's half width, after the checks [`generate_rbd`] documents.
+fn validated_half_width(p: &RbdParams) -> f64 {
     assert!(
         p.radius.is_finite() && p.radius > 0.0,
         "RBD: radius must be positive and finite, got {}",
@@ -65,16 +77,53 @@ pub fn generate_rbd(p: &RbdParams) -> Sample {
         p.footprint,
         p.radius
     );
+    half
+}
 
+/// Drops one monomer and returns where it stuck.
+fn deposit_one(p: &RbdParams, grid: &mut ColumnGrid, rng: &mut Rng) -> [f64; 3] {
+    let (x, y) = drop_point(&p.footprint, p.radius, rng);
+    let z = grid.stop_height(x, y, p.radius, p.contact_distance);
+    grid.insert([x, y, z]);
+    [x, y, z]
+}
+
+/// Deposits until `p.n` monomers lie wholly below `ceiling` (centre at most `ceiling - radius`)
+/// and keeps only those, in deposition order: a sample as tall as `ceiling` whose rough top has
+/// been cut away. Nothing kept loses its support: a falling monomer stops on the upper half of
+/// what it hits (or on the floor), so every kept monomer rests on a chain of lower ones.
+///
+/// Fails when `4 n` drops have not put `n` monomers below the ceiling (a ceiling the deposit's
+/// bulk filling factor cannot fill).
+pub fn generate_rbd_below(p: &RbdParams, ceiling: f64) -> Result<Sample, String> {
+    let half = validated_half_width(p);
     let mut rng = Rng::new(p.seed);
     let mut grid = ColumnGrid::new(half, p.contact_distance);
     let mut positions = Vec::with_capacity(p.n);
-    for _ in 0..p.n {
-        let (x, y) = drop_point(&p.footprint, p.radius, &mut rng);
-        let z = grid.stop_height(x, y, p.radius, p.contact_distance);
-        grid.insert([x, y, z]);
-        positions.push([x, y, z]);
+    let top = ceiling - p.radius;
+    for _ in 0..4 * p.n {
+        if positions.len() == p.n {
+            return Ok(sample_of(p, positions));
+        }
+        let at = deposit_one(p, &mut grid, &mut rng);
+        if at[2] <= top {
+            positions.push(at);
+        }
     }
+    if positions.len() == p.n {
+        return Ok(sample_of(p, positions));
+    }
+    Err(format!(
+        "random ballistic deposition put only {} of {} monomers below {:.3e} cm in {} drops: \
+         the footprint is too small for that many monomers under that height",
+        positions.len(),
+        p.n,
+        ceiling,
+        4 * p.n
+    ))
+}
+
+fn sample_of(p: &RbdParams, positions: Vec<[f64; 3]>) -> Sample {
     Sample {
         radius: p.radius,
         footprint: p.footprint.clone(),
@@ -332,6 +381,35 @@ mod tests {
         assert!((phi - 0.15).abs() <= 0.01, "interior phi {phi}");
         // The whole column includes the rough top, so it is less dense.
         assert!(s.filling_factor_bulk() < phi);
+    }
+
+    #[test]
+    fn a_cut_sample_is_as_tall_as_wide_at_the_bulk_filling_factor_and_fully_supported() {
+        let p = box_params(4000, 3);
+        let side = side_for_cube(p.n, R, 0.15);
+        let s = generate_rbd_below(&p, side).unwrap();
+        assert_eq!(s.positions.len(), p.n);
+        assert!(s.positions.iter().all(|q| q[2] + R <= side));
+        // Kept monomers rest on kept ones: each touches an earlier one or the floor.
+        check_hit_and_stick(&s);
+        // n monomers under a side³ box sized for φ = 0.15: exactly 0.15 by construction.
+        let v = 4.0 / 3.0 * std::f64::consts::PI * R.powi(3);
+        assert!((p.n as f64 * v / side.powi(3) - 0.15).abs() < 1e-12);
+        // The top is flat to within the deposit's roughness: the highest monomer reaches to
+        // within two diameters of the ceiling.
+        let top = s.positions.iter().map(|q| q[2]).fold(0.0, f64::max);
+        assert!(side - (top + R) < 4.0 * R, "top at {top}, ceiling {side}");
+        // The same inputs give the same sample; the uncut deposit differs.
+        assert_eq!(generate_rbd_below(&p, side).unwrap().positions, s.positions);
+        assert_ne!(generate_rbd(&p).positions, s.positions);
+    }
+
+    #[test]
+    fn a_ceiling_too_low_for_the_monomers_is_an_error() {
+        let p = box_params(2000, 1);
+        let side = side_for_cube(p.n, R, 0.15);
+        let e = generate_rbd_below(&p, 0.5 * side).unwrap_err();
+        assert!(e.contains("of 2000 monomers below"), "{e}");
     }
 
     #[test]

@@ -10,7 +10,7 @@ use crate::analysis::average::{average_on_log_grid, spread, AveragePoint, Spread
 use crate::analysis::fit::{Eq13, FitResult};
 use crate::analysis::front::{front_heights, run_front_speed, FrontOptions};
 use crate::analysis::per_speed::{fit_speed, SpeedFit, GUETTLER_PHI1, GUETTLER_PHI2};
-use crate::analysis::regimes::{find_regimes, RegimeOptions, Regimes};
+use crate::analysis::regimes::{regimes_of_runs, RegimeOptions, RegimeSummary};
 use crate::analysis::run_files::{
     attach_wall_heights, read_curve, read_curve_table, read_profiles,
 };
@@ -61,7 +61,8 @@ pub struct SpeedGroup {
     pub rms_vs_guettler: Option<(f64, usize)>,
     /// Front speed over the seeds that have one.
     pub front: Option<Spread>,
-    pub regimes: Option<Regimes>,
+    /// Regimes of each run in time order, over the seeds (dynamic speeds only).
+    pub regimes: Option<RegimeSummary>,
 }
 
 /// The speed laws of one (variant, size), each where enough speeds exist.
@@ -127,9 +128,10 @@ fn speed_group(runs: Vec<&CaseData>) -> SpeedGroup {
         seeds: runs.len(),
         rms_vs_guettler: rms_against(&points, &GUETTLER_2009_OMNI, COMPARE_RANGE),
         front: spread(&fronts),
-        regimes: (runs[0].wall_speed >= DYNAMIC_FROM)
-            .then(|| find_regimes(&points, &RegimeOptions::default()))
-            .flatten(),
+        regimes: (runs[0].wall_speed >= DYNAMIC_FROM).then(|| {
+            let rows: Vec<&[(f64, f64)]> = runs.iter().map(|c| c.curve.as_slice()).collect();
+            regimes_of_runs(&rows, &RegimeOptions::default())
+        }),
         average,
         fit,
     }
@@ -284,6 +286,23 @@ pub fn analyze_dir(dir: &Path) -> Result<PathBuf, String> {
     Ok(report)
 }
 
+/// Runs with three regimes, and their critical and plateau pressures over those runs.
+fn regimes_cell(r: &RegimeSummary) -> String {
+    let kpa = |s: Option<crate::analysis::average::Spread>| {
+        s.map_or("–".into(), |s| match s.count {
+            1 => format!("{:.3}", s.mean / 1e3),
+            _ => format!("{:.3} ± {:.3}", s.mean / 1e3, s.sem / 1e3),
+        })
+    };
+    format!(
+        "{} of {} runs; critical {} kPa, plateau {} kPa",
+        r.three_regimes,
+        r.runs,
+        kpa(r.critical_pa),
+        kpa(r.plateau_pa)
+    )
+}
+
 fn fmt_fit(f: &Result<FitResult, crate::analysis::fit::FitError>) -> String {
     match f {
         Ok(f) => format!(
@@ -325,14 +344,7 @@ pub fn markdown(families: &[Family], skipped: &[String]) -> String {
             let front = g.front.as_ref().map_or("–".into(), |f| {
                 format!("{:.2} ± {:.2} ({})", f.mean, f.sem, f.count)
             });
-            let regimes = g.regimes.as_ref().map_or("–".into(), |r| {
-                format!(
-                    "critical {:.3} kPa, plateau {:.3} kPa, steep from φ = {:.3}",
-                    r.critical_pressure / 1e3,
-                    r.plateau_pressure / 1e3,
-                    r.phi_at_steep_start
-                )
-            });
+            let regimes = g.regimes.as_ref().map_or("–".into(), regimes_cell);
             let free = fmt_fit(&g.fit.free);
             let _ = writeln!(
                 s,

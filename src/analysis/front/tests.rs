@@ -216,3 +216,55 @@ fn seeds_combine_to_mean_and_standard_error() {
     assert_eq!(s.count, 6);
     assert_eq!(combine_seeds(&[]), None);
 }
+
+/// Profiles of a run whose wall moves at `v_wall` from `H`, whose dense layer's lower edge moves
+/// at the mass-balance speed for φ₀ = 0.15 and PHI_DENSE, led by a precursor `lead` ahead.
+fn layered_run(v_wall: f64, lead: f64) -> (Vec<Profile>, f64) {
+    let v_p = v_wall / (1.0 - 0.15 / PHI_DENSE);
+    let init = vec![0.15; SLABS];
+    let mut first = profile(0.0, init.clone(), Some(H));
+    first.phi_mean = 0.15;
+    let mut out = vec![first];
+    let mut rng = Rng::new(3);
+    for k in 1..=40 {
+        let t = k as f64 * 0.02 * H / v_p;
+        let (wall, edge) = (H - v_wall * t, H - v_p * t);
+        let phi = compacted(&init, wall, edge, edge - lead, 0.03, 0.0, &mut rng);
+        out.push(profile(t, phi, Some(wall)));
+    }
+    (out, v_p)
+}
+
+#[test]
+fn elapsed_front_reads_the_first_deviation_and_mass_balance_the_layer() {
+    let v_wall = 5.0;
+    // No precursor: the first deviation is the layer's edge, moving at the mass-balance speed.
+    let (run, v_p) = layered_run(v_wall, 0.0);
+    assert!((v_p - 7.5).abs() < 1e-12);
+    let e = elapsed_front_speed(&run, 0.01).unwrap();
+    // Slab-interpolated edges are off by at most a slab, at least 15 µm below the start.
+    let tol = v_p * D / 15e-6;
+    assert!((e.v - v_p).abs() < tol, "{e:?} vs {v_p}");
+    assert!(e.profiles >= 15, "{e:?}");
+    let (layer, v_mb) = mass_balance_front(&run, &FrontOptions::default(), v_wall).unwrap();
+    assert!((layer - PHI_DENSE).abs() < 1e-9, "{layer}");
+    assert!((v_mb - v_p).abs() < 1e-6, "{v_mb}");
+
+    // A precursor of excess 0.03 running 6 µm ahead: the first deviation (0.01) follows it,
+    // its distance from the start over the elapsed time comes out faster by lead / t.
+    let lead = 6e-6;
+    let (run, _) = layered_run(v_wall, lead);
+    let first = elapsed_front_speed(&run, 0.01).unwrap();
+    assert!(first.v > v_p + 0.5 * tol, "{first:?}");
+    // The robust reading (excess 0.05) does not see it.
+    let robust = elapsed_front_speed(&run, 0.05).unwrap();
+    assert!((robust.v - v_p).abs() < tol, "{robust:?}");
+}
+
+#[test]
+fn elapsed_front_needs_the_starting_wall() {
+    let (mut run, _) = layered_run(5.0, 0.0);
+    run[0].wall_m = None;
+    assert!(elapsed_front_speed(&run, 0.01).is_none());
+    assert!(mass_balance_front(&run, &FrontOptions::default(), 5.0).is_none());
+}

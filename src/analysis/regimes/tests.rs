@@ -126,6 +126,62 @@ fn smooth_quasi_static_curve_is_not_three_regimes() {
 #[test]
 fn too_short_curves_have_no_regimes() {
     let c = curve(0.0, &mut Rng::new(0));
-    assert!(find_regimes(&c[..8], &RegimeOptions::default()).is_none());
-    assert!(find_regimes(&c[..9], &RegimeOptions::default()).is_some());
+    // Regime (i) may lie before the first row; three rows of each other regime at least.
+    assert!(find_regimes(&c[..5], &RegimeOptions::default()).is_none());
+    assert!(find_regimes(&c[..6], &RegimeOptions::default()).is_some());
+}
+
+#[test]
+fn regimes_of_runs_reads_each_run_in_time_order_and_summarises_the_seeds() {
+    // Three noisy dynamic runs with corners at K1, K2 and two smooth quasi-static ones.
+    let mut rng = Rng::new(77);
+    let dynamic: Vec<Vec<(f64, f64)>> = (0..3).map(|_| curve(0.02, &mut rng)).collect();
+    let refs: Vec<&[(f64, f64)]> = dynamic.iter().map(|c| c.as_slice()).collect();
+    let s = regimes_of_runs(&refs, &RegimeOptions::default());
+    assert_eq!((s.runs, s.three_regimes), (3, 3));
+    let critical = s.critical_pa.unwrap();
+    assert!((critical.mean.log10() - 3.7).abs() < 0.03, "{s:?}");
+    // The plateau's median lies half-way up its 0.15 dex rise.
+    let plateau = s.plateau_pa.unwrap();
+    assert!((plateau.mean.log10() - 3.775).abs() < 0.03, "{s:?}");
+    let steep = s.phi_steep.unwrap();
+    assert!(
+        (steep.mean - phi(K2)).abs() < 2.0 * (phi(K2 + 1) - phi(K2)),
+        "{s:?}"
+    );
+
+    let e = Eq13 {
+        phi1: 0.15,
+        phi2: 0.58,
+        p_m: 16667.0,
+        delta: 0.562,
+    };
+    let smooth: Vec<(f64, f64)> = (1..ROWS)
+        .map(|i| (e.pressure_at(phi(i)).unwrap(), phi(i)))
+        .collect();
+    let s = regimes_of_runs(&[&smooth, &smooth], &RegimeOptions::default());
+    assert_eq!((s.runs, s.three_regimes), (2, 0));
+    assert!(s.critical_pa.is_none());
+}
+
+#[test]
+fn an_impact_spike_decaying_into_the_plateau_is_not_regime_i() {
+    // At 15–25 m/s the first row already holds the impact's pressure, which decays by half a
+    // decade before the plateau rises again; the corner to the steep rise stays at K2.
+    let decay = |i: usize| 5.2 - 0.02 * i.min(25) as f64 + 0.002 * i.saturating_sub(25) as f64;
+    let mut c = vec![(f64::NAN, 0.15)];
+    let top = decay(K2 - 1);
+    c.extend((1..ROWS).map(|i| {
+        let lp = if i < K2 {
+            decay(i)
+        } else {
+            top + 0.06 * (i - K2 + 1) as f64
+        };
+        (10f64.powf(lp), phi(i))
+    }));
+    let r = find_regimes(&c, &RegimeOptions::default()).unwrap();
+    assert_eq!(r.plateau_start, 1, "{r:?}");
+    assert!(r.steep_start.abs_diff(K2) <= 1, "{r:?}");
+    assert!(r.three_regimes, "{r:?}");
+    assert!((r.phi_rise_before_critical - (phi(1) - 0.15)).abs() < 1e-12);
 }

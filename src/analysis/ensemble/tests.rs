@@ -1,0 +1,125 @@
+use super::*;
+use crate::rng::Rng;
+
+/// A run whose pressure follows `truth` along a φ ramp, rows in time order.
+fn run_of(truth: &Eq13, noise: impl FnMut() -> f64, rows: usize) -> CurveTable {
+    let mut noise = noise;
+    let mut t = CurveTable::default();
+    for k in 0..rows {
+        let phi = 0.151 + 0.42 * k as f64 / (rows - 1) as f64;
+        let p = truth.pressure_at(phi).unwrap_or(f64::NAN) * 10f64.powf(noise());
+        t.step.push(100 * k as u64);
+        t.time_s.push(k as f64 * 3e-8);
+        t.wall_gap_m.push(6e-5 * 0.15 / phi);
+        t.p_top_pa.push(p);
+        t.phi.push(phi);
+    }
+    t
+}
+
+const TRUTH: Eq13 = Eq13 {
+    phi1: 0.15,
+    phi2: 0.58,
+    p_m: 5e3,
+    delta: 0.3,
+};
+
+#[test]
+fn pressure_at_phi_interpolates_between_rows_and_refuses_unreached() {
+    let run = run_of(&TRUTH, || 0.0, 43);
+    // Rows at φ = 0.151 + 0.01 k: halfway between rows 10 and 11 lies φ = 0.256.
+    let want = 0.5 * (run.p_top_pa[10] + run.p_top_pa[11]);
+    let got = pressure_at_phi(&run, 0.256).unwrap();
+    assert!((got / want - 1.0).abs() < 1e-12, "{got} vs {want}");
+    assert_eq!(pressure_at_phi(&run, 0.6), None);
+    // Before the first row there is nothing to interpolate from.
+    assert_eq!(pressure_at_phi(&run, 0.15), None);
+}
+
+#[test]
+fn average_at_fixed_phi_is_the_mean_of_the_seeds_where_all_reached() {
+    let a = run_of(&TRUTH, || 0.0, 43);
+    let mut b = run_of(&TRUTH, || 0.0, 43);
+    for p in &mut b.p_top_pa {
+        *p *= 3.0;
+    }
+    b.phi.truncate(30);
+    b.p_top_pa.truncate(30);
+    let avg = average_at_fixed_phi(&[&a, &b], &phi_grid(0.2, 0.55, 0.05));
+    // b stops at φ = 0.151 + 0.29 = 0.441: 0.45 and above are left out.
+    assert_eq!(avg.len(), 5, "{avg:?}");
+    for x in &avg {
+        let one = pressure_at_phi(&a, x.phi).unwrap();
+        assert!((x.p_mean / (2.0 * one) - 1.0).abs() < 1e-12);
+        // sd of {1, 3}·p is √2·p.
+        assert!((x.p_sd / (2f64.sqrt() * one) - 1.0).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn student_t_matches_the_tables() {
+    // Two-sided 68.27 % points: 1.8373 (1 dof), 1.3213 (2), 1.0906 (6), → 1.
+    assert!((student_t68(1) - 1.837).abs() < 1e-3);
+    assert!((student_t68(2) - 1.321).abs() < 1e-3);
+    assert!((student_t68(6) - 1.091).abs() < 1e-3);
+    assert_eq!(student_t68(100), 1.0);
+    assert!(student_t68(0).is_nan());
+}
+
+/// Seeds differ by their own p_m and Δ (as samples do) and by row noise.
+fn seed_runs(rng: &mut Rng, seeds: usize) -> Vec<CurveTable> {
+    (0..seeds)
+        .map(|_| {
+            let own = Eq13 {
+                p_m: TRUTH.p_m * 10f64.powf(0.08 * rng.normal()),
+                delta: TRUTH.delta * (1.0 + 0.08 * rng.normal()),
+                ..TRUTH
+            };
+            let mut noise = Rng::new(rng.uniform().to_bits());
+            run_of(&own, move || 0.05 * noise.normal(), 43)
+        })
+        .collect()
+}
+
+#[test]
+fn seed_errors_cover_the_ensemble_value_in_68_percent_of_trials() {
+    let grid = phi_grid(0.16, 0.56, 0.01);
+    let held = Held {
+        phi1: Some(0.15),
+        phi2: Some(0.58),
+    };
+    let mut rng = Rng::new(5);
+    // The estimator's infinite-ensemble value: the same fit over many seeds.
+    let many = seed_runs(&mut rng, 3000);
+    let refs: Vec<&CurveTable> = many.iter().collect();
+    let limit = fit_ensemble(&refs, &grid, held).unwrap().mean_fit.params;
+    const TRIALS: usize = 400;
+    let (mut cover_pm, mut cover_delta) = (0, 0);
+    for _ in 0..TRIALS {
+        let runs = seed_runs(&mut rng, 3);
+        let refs: Vec<&CurveTable> = runs.iter().collect();
+        let f = fit_ensemble(&refs, &grid, held).unwrap();
+        assert_eq!(f.seeds_fitted, 3);
+        let d_log = (f.mean_fit.params.p_m / limit.p_m).log10().abs();
+        cover_pm += usize::from(d_log <= f.err_log10_pm);
+        cover_delta += usize::from((f.mean_fit.params.delta - limit.delta).abs() <= f.err.delta);
+    }
+    // 400 trials: binomial sd of a 68.3 % rate is 2.3 %; ±7 % is three sd.
+    for (name, hits) in [("p_m", cover_pm), ("delta", cover_delta)] {
+        let rate = hits as f64 / TRIALS as f64;
+        assert!((rate - 0.683).abs() < 0.07, "{name}: coverage {rate}");
+    }
+}
+
+#[test]
+fn one_seed_has_no_seed_error() {
+    let runs = seed_runs(&mut Rng::new(9), 1);
+    let grid = phi_grid(0.16, 0.56, 0.01);
+    let held = Held {
+        phi1: Some(0.15),
+        phi2: None,
+    };
+    let f = fit_ensemble(&[&runs[0]], &grid, held).unwrap();
+    assert!(f.err.delta.is_nan() && f.err_log10_pm.is_nan());
+    assert_eq!(f.err.phi1, 0.0);
+}
