@@ -76,6 +76,8 @@ pub struct Study {
     pub phi_stop: f64,
     /// Profiles every this many rows (rows are 100 steps): dynamic runs are short.
     pub profile_every_rows: u64,
+    /// Time limit of one Slurm array task (one CPU), for the study's largest case.
+    pub slurm_time: &'static str,
 }
 
 impl Study {
@@ -143,6 +145,8 @@ impl Tier {
                 pressure_stop_pa: 1e6,
                 phi_stop: 0.7,
                 profile_every_rows: 100,
+                // 11 000 monomers at 1 cm/s: about 10¹¹ particle-steps.
+                slurm_time: "3-00:00:00",
             },
             Study {
                 kind: StudyKind::Dynamic,
@@ -155,6 +159,7 @@ impl Tier {
                 pressure_stop_pa: 1e7,
                 phi_stop: 0.7,
                 profile_every_rows: 2,
+                slurm_time: "08:00:00",
             },
             Study {
                 kind: StudyKind::Dynamic,
@@ -167,6 +172,7 @@ impl Tier {
                 pressure_stop_pa: 1e7,
                 phi_stop: 0.7,
                 profile_every_rows: 20,
+                slurm_time: "04:00:00",
             },
             Study {
                 kind: StudyKind::Uni,
@@ -179,6 +185,7 @@ impl Tier {
                 pressure_stop_pa: 1e5,
                 phi_stop: 0.5,
                 profile_every_rows: 100,
+                slurm_time: "2-00:00:00",
             },
         ]
     }
@@ -226,6 +233,7 @@ impl Study {
         for v in &self.variants {
             text += &format!("{} = {}\n", v.name, v.overrides);
         }
+        text += &format!("\n[slurm]\ntime = \"{}\"\n", self.slurm_time);
         text
     }
 }

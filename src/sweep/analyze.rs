@@ -312,7 +312,7 @@ fn fmt_fit(f: &Result<FitResult, crate::analysis::fit::FitError>) -> String {
             f.params.delta,
             f.std_err.delta
         ),
-        Err(e) => format!("no fit ({e:?}) | –"),
+        Err(e) => format!("no fit ({e}) | –"),
     }
 }
 
@@ -357,7 +357,7 @@ pub fn markdown(families: &[Family], skipped: &[String]) -> String {
         s += "\nSpeed laws (p_m in kPa; where too few speeds, none):\n\n";
         s += "| law | fitted | paper |\n|---|---|---|\n";
         let l = &f.laws;
-        let p = |x: &dyn std::fmt::Debug| format!("{x:?}");
+        let p = |x: &dyn PlainLaw| x.plain();
         let row = |name: &str, fit: Option<String>, paper: String| {
             format!("| {name} | {} | {paper} |\n", fit.unwrap_or("–".into()))
         };
@@ -387,6 +387,29 @@ pub fn markdown(families: &[Family], skipped: &[String]) -> String {
         );
     }
     s
+}
+
+/// A law's parameters as plain numbers.
+trait PlainLaw {
+    fn plain(&self) -> String;
+}
+
+impl PlainLaw for Quadratic {
+    fn plain(&self) -> String {
+        format!("a = {:.4}, b = {:.4}, c = {:.4}", self.a, self.b, self.c)
+    }
+}
+
+impl PlainLaw for PowerLaw {
+    fn plain(&self) -> String {
+        format!("a = {:.4}, b = {:.4}, c = {:.4}", self.a, self.b, self.c)
+    }
+}
+
+impl PlainLaw for ShiftedPowerLaw {
+    fn plain(&self) -> String {
+        format!("a = {:.4}, b = {:.4}, c = {:.4}", self.a, self.b, self.c)
+    }
 }
 
 fn reference_series(name: &str, eq: &Eq13, color: u32) -> Series {
