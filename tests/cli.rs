@@ -177,6 +177,7 @@ fn bad_configs_are_refused_with_a_clear_message() {
             &["poisson_ratio = 0.7", "between -1 and 0.5"],
         ),
         ("omni_cylinder", &["cylinder", "box"]),
+        ("cut_from_file", &["[sample] top", "\"rough\""]),
     ];
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad_inputs");
     let out_dir = scratch("bad");

@@ -2,7 +2,7 @@
 //! checked against what is allowed; each problem is a [`ConfigError`] naming the file, the
 //! field, the value and what would be accepted.
 
-use super::{stable_time_step, Config, ExperimentKind, FootprintKind, SampleSource};
+use super::{stable_time_step, Config, ExperimentKind, FootprintKind, SampleSource, SampleTop};
 use crate::model::Damping;
 use std::fmt;
 use std::path::Path;
@@ -152,6 +152,13 @@ impl Config {
                 "[sample] file",
                 "(missing)",
                 "a sample file path is required when source = \"file\"",
+            );
+        }
+        if s.source == SampleSource::File && s.top == SampleTop::Cut {
+            c.fail(
+                "[sample] top",
+                "\"cut\"",
+                "\"cut\" shapes a generated sample; with source = \"file\" use \"rough\"",
             );
         }
         if s.side_um > 0.0 && s.side_um < 2.0 * m.radius_um {

@@ -128,7 +128,7 @@ fn spread_cell(s: &Option<Spread>, scale: f64) -> String {
 fn family_table(s: &mut String, f: &Family, kind: StudyKind) {
     let _ = writeln!(
         s,
-        "| v [m/s] | seeds | φ₀ | p_m [kPa] (φ₁, φ₂ held) | Δ | φ₁ free: φ₁ | p_m | Δ | first passage: p_m | Δ | CPU time [s] |\n\
+        "| v [m/s] | seeds | φ₀ | p_m [kPa] (φ₁, φ₂ held) | Δ | φ₁ free: φ₁ | p_m | Δ | first passage: p_m | Δ | wall-clock [s], all seeds |\n\
          |---|---|---|---|---|---|---|---|---|---|---|"
     );
     for r in &f.speeds {
@@ -283,6 +283,12 @@ fn study_section(s: &mut String, a: &Analysed, figures_dir: &str) {
         st.phi_stop,
         st.pressure_stop_pa / 1e6,
     );
+    let mut machines: Vec<&str> = a.cases.iter().map(|c| c.entry.machine.as_str()).collect();
+    machines.sort_unstable();
+    machines.dedup();
+    if !machines.is_empty() {
+        let _ = writeln!(s, "Ran on: {}.\n", machines.join("; "));
+    }
     for f in &a.families {
         let _ = writeln!(s, "### {} model, {} monomers\n", f.variant, f.monomers);
         family_table(s, f, st.kind);

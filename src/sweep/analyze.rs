@@ -9,15 +9,15 @@ use super::collect::collect;
 use crate::analysis::average::{average_on_log_grid, spread, AveragePoint, Spread};
 use crate::analysis::fit::{Eq13, FitResult};
 use crate::analysis::front::{front_heights, run_front_speed, FrontOptions};
+use crate::analysis::law_checks::{self, Law, Laws, SpeedValue};
 use crate::analysis::per_speed::{fit_speed, SpeedFit, GUETTLER_PHI1, GUETTLER_PHI2};
 use crate::analysis::regimes::{regimes_of_runs, RegimeOptions, RegimeSummary};
 use crate::analysis::run_files::{
     attach_wall_heights, read_curve, read_curve_table, read_profiles,
 };
 use crate::analysis::speed_laws::{
-    fit_power_law, fit_quadratic, fit_shifted_power_law, LawFit, PowerLaw, Quadratic,
-    ShiftedPowerLaw, PAPER_DELTA, PAPER_PM_DYNAMIC, PAPER_PM_DYNAMIC_SQUARE, PAPER_PM_QUASI_STATIC,
-    PAPER_V_CRIT,
+    PowerLaw, Quadratic, ShiftedPowerLaw, PAPER_DELTA, PAPER_PM_DYNAMIC, PAPER_PM_DYNAMIC_SQUARE,
+    PAPER_PM_QUASI_STATIC, PAPER_V_CRIT,
 };
 use crate::job::figure::{BLUM_SCHRAEPLER_2004_UNI, GUETTLER_2009_OMNI};
 use crate::output::atomic::write_atomic;
@@ -63,15 +63,6 @@ pub struct SpeedGroup {
     pub front: Option<Spread>,
     /// Regimes of each run in time order, over the seeds (dynamic speeds only).
     pub regimes: Option<RegimeSummary>,
-}
-
-/// The speed laws of one (variant, size), each where enough speeds exist.
-#[derive(Clone, Debug, Default)]
-pub struct Laws {
-    pub pm_quasi_static: Option<LawFit<Quadratic>>,
-    pub pm_dynamic: Option<LawFit<PowerLaw>>,
-    pub pm_dynamic_square: Option<LawFit<PowerLaw>>,
-    pub delta: Option<LawFit<ShiftedPowerLaw>>,
 }
 
 /// Everything of one (variant, size).
@@ -184,25 +175,13 @@ fn fitted(speeds: &[SpeedGroup], keep: impl Fn(f64) -> bool) -> Fitted {
     out
 }
 
+/// Eqs. 14–17 where the speeds constrain them (`analysis::law_checks`).
 fn speed_laws(speeds: &[SpeedGroup]) -> Laws {
-    let slow = fitted(speeds, |v| v <= 1.0);
-    let fast = fitted(speeds, |v| v >= 1.0);
-    let all = fitted(speeds, |_| true);
-    // Each law needs more speeds than parameters, or its errors mean nothing.
-    Laws {
-        pm_quasi_static: (slow.v.len() > 3)
-            .then(|| fit_quadratic(&slow.v, &slow.pm, Some(&slow.pm_err)).ok())
-            .flatten(),
-        pm_dynamic: (fast.v.len() > 3)
-            .then(|| fit_power_law(&fast.v, &fast.pm, Some(&fast.pm_err), None).ok())
-            .flatten(),
-        pm_dynamic_square: (fast.v.len() > 2)
-            .then(|| fit_power_law(&fast.v, &fast.pm, Some(&fast.pm_err), Some(2.0)).ok())
-            .flatten(),
-        delta: (all.v.len() > 3)
-            .then(|| fit_shifted_power_law(&all.v, &all.delta, Some(&all.delta_err)).ok())
-            .flatten(),
-    }
+    let f = fitted(speeds, |_| true);
+    let values: Vec<SpeedValue> = (0..f.v.len())
+        .map(|k| [f.v[k], f.pm[k], f.pm_err[k], f.delta[k], f.delta_err[k]])
+        .collect();
+    law_checks::speed_laws(&values)
 }
 
 /// Reads every finished case of the sweep directory `dir` (after `collect`).
@@ -354,39 +333,36 @@ pub fn markdown(families: &[Family], skipped: &[String]) -> String {
                 PAPER_DELTA.eval(v)
             );
         }
-        s += "\nSpeed laws (p_m in kPa; where too few speeds, none):\n\n";
+        s += "\nSpeed laws (p_m in kPa), each only where the speeds constrain it:\n\n";
         s += "| law | fitted | paper |\n|---|---|---|\n";
         let l = &f.laws;
-        let p = |x: &dyn PlainLaw| x.plain();
-        let row = |name: &str, fit: Option<String>, paper: String| {
-            format!("| {name} | {} | {paper} |\n", fit.unwrap_or("–".into()))
-        };
-        s += &row(
+        s += &law_row(
             "p_m = a v² + b v + c (v ≤ 1)",
-            l.pm_quasi_static.as_ref().map(|f| p(&f.law)),
-            p(&PAPER_PM_QUASI_STATIC),
+            &l.pm_slow,
+            &PAPER_PM_QUASI_STATIC,
         );
-        s += &row(
-            "p_m = a v^b + c (v ≥ 1)",
-            l.pm_dynamic.as_ref().map(|f| p(&f.law)),
-            p(&PAPER_PM_DYNAMIC),
-        );
-        s += &row(
+        s += &law_row("p_m = a v^b + c (v ≥ 1)", &l.pm_dynamic, &PAPER_PM_DYNAMIC);
+        s += &law_row(
             "p_m = a v² + c (v ≥ 1)",
-            l.pm_dynamic_square.as_ref().map(|f| p(&f.law)),
-            p(&PAPER_PM_DYNAMIC_SQUARE),
+            &l.pm_square,
+            &PAPER_PM_DYNAMIC_SQUARE,
         );
-        s += &row(
-            "Δ = (v + a)^b + c",
-            l.delta.as_ref().map(|f| p(&f.law)),
-            p(&PAPER_DELTA),
-        );
+        s += &law_row("Δ = (v + a)^b + c", &l.delta, &PAPER_DELTA);
         let _ = writeln!(
             s,
             "\nThe paper's transition between the two regimes: v_crit ≈ {PAPER_V_CRIT} m/s.\n"
         );
     }
     s
+}
+
+/// A law's row: its parameters with errors, or why it is not reported.
+fn law_row<L: PlainLaw>(name: &str, law: &Law<L>, paper: &L) -> String {
+    let fit = match law {
+        Law::Fitted(f) => format!("{} (± {})", f.law.plain(), f.std_err.plain()),
+        Law::Unconstrained(why) => format!("not reported: {why}"),
+    };
+    format!("| {name} | {fit} | {} |\n", paper.plain())
 }
 
 /// A law's parameters as plain numbers.
@@ -493,7 +469,7 @@ fn pm_plot(f: &Family) -> Plot {
         top,
         0x777777,
     ));
-    if let Some(l) = &f.laws.pm_dynamic_square {
+    if let Some(l) = f.laws.pm_square.fitted() {
         let law = l.law;
         plot.series.push(law_series(
             "fit a v² + c",
@@ -521,7 +497,7 @@ fn delta_plot(f: &Family) -> Plot {
         top,
         0x000000,
     ));
-    if let Some(l) = &f.laws.delta {
+    if let Some(l) = f.laws.delta.fitted() {
         let law = l.law;
         plot.series.push(law_series(
             "fit (v + a)^b + c",

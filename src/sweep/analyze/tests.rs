@@ -91,14 +91,14 @@ fn a_sweep_of_paper_curves_gives_back_the_papers_laws() {
     }
     // Laws through exact points: the fit returns the paper's coefficients (limited by the
     // per-speed p_m above, 1e-3, amplified by the quadratic's conditioning).
-    let q = f.laws.pm_quasi_static.as_ref().expect("quadratic law").law;
+    let q = f.laws.pm_slow.fitted().expect("quadratic law").law;
     close(q.a, PAPER_PM_QUASI_STATIC.a, 2e-2, "quadratic a");
     close(q.b, PAPER_PM_QUASI_STATIC.b, 2e-2, "quadratic b");
     close(q.c, PAPER_PM_QUASI_STATIC.c, 2e-2, "quadratic c");
-    let d = f.laws.pm_dynamic.as_ref().expect("power law").law;
+    let d = f.laws.pm_dynamic.fitted().expect("power law").law;
     close(d.a, PAPER_PM_DYNAMIC.a, 2e-2, "power law a");
     close(d.b, PAPER_PM_DYNAMIC.b, 2e-2, "power law b");
-    let delta = f.laws.delta.as_ref().expect("Δ law").law;
+    let delta = f.laws.delta.fitted().expect("Δ law").law;
     close(delta.a, PAPER_DELTA.a, 5e-2, "Δ law a");
     close(delta.b, PAPER_DELTA.b, 5e-2, "Δ law b");
     close(delta.c, PAPER_DELTA.c, 5e-2, "Δ law c");
