@@ -156,17 +156,23 @@ fn family_table(s: &mut String, f: &Family, kind: StudyKind) {
     }
     if kind == StudyKind::Dynamic && f.speeds.iter().any(|r| r.regimes.is_some()) {
         s.push_str(
-            "\n| v [m/s] | runs with three regimes | critical P [kPa] | plateau P [kPa] | φ at the steep rise | v_p first deviation [m/s] | ÷ v_wall | v_p robust [m/s] | mass balance [m/s] | φ of the layer |\n\
-             |---|---|---|---|---|---|---|---|---|---|\n",
+            "\n| v [m/s] | runs with three regimes | critical P [kPa] | plateau P [kPa] | φ at the steep rise | v_p first deviation [m/s] | ÷ v_wall | v_p robust [m/s] | mass balance [m/s] | φ of the layer | momentum flux ρ φ₀ v_wall v_p [kPa] |\n\
+             |---|---|---|---|---|---|---|---|---|---|---|\n",
         );
         for r in f.speeds.iter().filter(|r| r.regimes.is_some()) {
             let g = r.regimes.expect("filtered");
             let ratio = r
                 .front_elapsed
                 .map_or("–".into(), |e| sig(e.mean / r.speed));
+            // The plateau pressure momentum conservation asks for: the wall sets mass ρ φ₀
+            // per volume moving at v_wall, swept up at v_p (SI units, then kPa).
+            let density = crate::config::MaterialConfig::default().density_g_cm3 * 1e3;
+            let flux = r.front_mass_balance.map_or("–".into(), |m| {
+                sig(density * r.phi0.mean * r.speed * m.mean / 1e3)
+            });
             let _ = writeln!(
                 s,
-                "| {} | {} of {} | {} | {} | {} | {} | {ratio} | {} | {} | {} |",
+                "| {} | {} of {} | {} | {} | {} | {} | {ratio} | {} | {} | {} | {flux} |",
                 r.speed,
                 g.three_regimes,
                 g.runs,
