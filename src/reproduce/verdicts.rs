@@ -174,10 +174,30 @@ pub fn front_claim(f: &Family) -> Claim {
             Verdict::Agrees
         },
     }
-    .with_note(if matching.is_empty() {
-        "no wall speed gives it".into()
-    } else {
-        format!("matched at v_wall = {}", matching.join(", "))
+    .with_note(
+        match (matching.is_empty(), crossing(&measured, PAPER_V_P.0)) {
+            (true, None) => "no wall speed measured gives it".into(),
+            (true, Some(v)) => format!(
+                "no measured wall speed gives it; ours crosses 6.98 m/s at v_wall ≈ {}",
+                sig(v)
+            ),
+            (false, None) => format!("matched at v_wall = {}", matching.join(", ")),
+            (false, Some(v)) => format!(
+                "matched at v_wall = {}; ours crosses 6.98 m/s at v_wall ≈ {}",
+                matching.join(", "),
+                sig(v)
+            ),
+        },
+    )
+}
+
+/// The wall speed at which the measured front speeds (ascending in wall speed) pass `target`,
+/// by linear interpolation between the two speeds around it.
+fn crossing(measured: &[(f64, Spread)], target: f64) -> Option<f64> {
+    measured.windows(2).find_map(|w| {
+        let ((v0, a), (v1, b)) = (w[0], w[1]);
+        let (y0, y1) = (a.mean - target, b.mean - target);
+        (y0 <= 0.0 && y1 > 0.0).then(|| v0 + (v1 - v0) * y0 / (y0 - y1))
     })
 }
 
@@ -353,4 +373,53 @@ pub fn table(claims: &[Claim]) -> String {
         );
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spread(mean: f64) -> Spread {
+        Spread {
+            mean,
+            sd: f64::NAN,
+            sem: f64::NAN,
+            count: 1,
+        }
+    }
+
+    #[test]
+    fn a_value_agrees_within_twice_its_error_plus_a_fifth_of_the_paper() {
+        // Paper 100, ours 70 ± 5: allowed 2·5 + 20 = 30, off by 30.
+        let at = compare("x".into(), 100.0, "", 70.0, 5.0, "c");
+        assert_eq!(at.verdict, Verdict::Agrees);
+        let beyond = compare("x".into(), 100.0, "", 69.9, 5.0, "c");
+        assert_eq!(beyond.verdict, Verdict::Differs);
+        // One seed: no error, the 20 % alone.
+        let one = compare("x".into(), 100.0, "", 81.0, f64::NAN, "c");
+        assert_eq!(one.verdict, Verdict::Agrees);
+        assert!(one.ours.contains("one seed"));
+        assert!((one.ratio.unwrap() - 0.81).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_front_crossing_interpolates_between_wall_speeds() {
+        let m = [
+            (5.0, spread(8.0)),
+            (7.5, spread(12.0)),
+            (10.0, spread(17.0)),
+        ];
+        assert_eq!(crossing(&m, 6.98), None);
+        let v = crossing(&[(2.5, spread(4.0)), (5.0, spread(8.0))], 6.98).unwrap();
+        assert!((v - (2.5 + 2.5 * 2.98 / 4.0)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn numbers_print_with_three_significant_digits() {
+        assert_eq!(sig(6.98), "6.98");
+        assert_eq!(sig(141.23), "141");
+        assert_eq!(sig(0.04663), "0.0466");
+        assert_eq!(sig(-44.298), "-44.3");
+        assert_eq!(sig(f64::NAN), "–");
+    }
 }
