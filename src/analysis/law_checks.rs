@@ -70,10 +70,14 @@ fn checked<L>(
 ) -> Law<L> {
     match fit {
         Err(e) => Law::Unconstrained(e),
-        Ok(f) => match problem_of(&f, &params(&f.law), &params(&f.std_err)).or(physical(&f)) {
-            Some(why) => Law::Unconstrained(why),
-            None => Law::Fitted(f),
-        },
+        // A bound or a sign first: a fit stuck on a bound often fails to converge too, and
+        // the bound says more.
+        Ok(f) => {
+            match physical(&f).or_else(|| problem_of(&f, &params(&f.law), &params(&f.std_err))) {
+                Some(why) => Law::Unconstrained(why),
+                None => Law::Fitted(f),
+            }
+        }
     }
 }
 
@@ -187,5 +191,71 @@ pub fn speed_laws(values: &[SpeedValue]) -> Laws {
         delta: delta_law(values),
         pm_slow,
         v_crit,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::speed_laws::{PAPER_DELTA, PAPER_PM_DYNAMIC, PAPER_PM_QUASI_STATIC};
+
+    /// The paper's laws at `speeds`, with 5 % errors.
+    fn paper_points(speeds: &[f64]) -> Vec<SpeedValue> {
+        speeds
+            .iter()
+            .map(|&v| {
+                let pm = if v < 1.0 {
+                    PAPER_PM_QUASI_STATIC.eval(v)
+                } else {
+                    PAPER_PM_DYNAMIC.eval(v)
+                };
+                let d = PAPER_DELTA.eval(v);
+                [v, pm, 0.05 * pm, d, 0.05 * d]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_paper_s_own_points_give_the_paper_s_laws() {
+        let laws = speed_laws(&paper_points(&[1.0, 2.5, 5.0, 7.5, 10.0, 15.0, 20.0, 25.0]));
+        let pm = laws.pm_dynamic.fitted().expect("Eq. 15");
+        assert!((pm.law.b - 1.93).abs() < 1e-3, "{:?}", pm.law);
+        let delta = laws.delta.fitted().expect("Eq. 17");
+        assert!((delta.law.c - 0.170).abs() < 1e-3, "{:?}", delta.law);
+        let slow = speed_laws(&paper_points(&[0.1, 0.25, 0.5, 0.75, 0.9]));
+        let (v, err) = slow.v_crit.expect("v_crit");
+        // −b/(2a) of Eq. 14: 33.663 / 36.592.
+        assert!((v - 33.663 / 36.592).abs() < 1e-6, "{v} ± {err}");
+        // The 5 % errors of p_m carried through −b/(2a): a few per cent of v_crit.
+        assert!(err > 0.005 && err < 0.05, "{v} ± {err}");
+    }
+
+    #[test]
+    fn too_few_speeds_a_negative_offset_or_a_shift_on_its_bound_are_not_values() {
+        let few = speed_laws(&paper_points(&[2.5, 5.0, 10.0]));
+        assert!(matches!(&few.pm_dynamic, Law::Unconstrained(w) if w.contains("at least 4")));
+        // p_m = 0.5 v² − 20 kPa: the offset is negative far beyond its error.
+        let negative: Vec<SpeedValue> = [5.0, 7.5, 10.0, 15.0, 20.0]
+            .iter()
+            .map(|&v| [v, 0.5 * v * v - 20.0, 0.5, 0.2, 0.01])
+            .collect();
+        let laws = speed_laws(&negative);
+        assert!(
+            matches!(&laws.pm_dynamic, Law::Unconstrained(w) if w.contains("c = ")),
+            "{:?}",
+            laws.pm_dynamic
+        );
+        // Δ = (v − 0.9999)^−1 + 0.1: the shift runs to its bound a > −min v, and the offset
+        // goes negative to make up for it; either way no value is reported.
+        let bound: Vec<SpeedValue> = [1.0, 1.5, 2.5, 5.0, 10.0]
+            .iter()
+            .map(|&v| [v, 1.0, 0.1, 1.0 / (v - 0.9999) + 0.1, 1e-3])
+            .collect();
+        let laws = speed_laws(&bound);
+        assert!(
+            matches!(&laws.delta, Law::Unconstrained(w) if w.contains("bound") || w.contains("c = ")),
+            "{:?}",
+            laws.delta
+        );
     }
 }

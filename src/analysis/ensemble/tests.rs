@@ -94,7 +94,7 @@ fn seed_errors_cover_the_ensemble_value_in_68_percent_of_trials() {
     let refs: Vec<&CurveTable> = many.iter().collect();
     let limit = fit_ensemble(&refs, &grid, held).unwrap().mean_fit.params;
     const TRIALS: usize = 400;
-    let (mut cover_pm, mut cover_delta) = (0, 0);
+    let (mut cover_pm, mut cover_delta, mut cover_linear) = (0, 0, 0);
     for _ in 0..TRIALS {
         let runs = seed_runs(&mut rng, 3);
         let refs: Vec<&CurveTable> = runs.iter().collect();
@@ -102,10 +102,16 @@ fn seed_errors_cover_the_ensemble_value_in_68_percent_of_trials() {
         assert_eq!(f.seeds_fitted, 3);
         let d_log = (f.mean_fit.params.p_m / limit.p_m).log10().abs();
         cover_pm += usize::from(d_log <= f.err_log10_pm);
+        // The same interval in p_m itself (delta method: p_m ln 10 σ_log).
+        cover_linear += usize::from((f.mean_fit.params.p_m - limit.p_m).abs() <= f.err.p_m);
         cover_delta += usize::from((f.mean_fit.params.delta - limit.delta).abs() <= f.err.delta);
     }
     // 400 trials: binomial sd of a 68.3 % rate is 2.3 %; ±7 % is three sd.
-    for (name, hits) in [("p_m", cover_pm), ("delta", cover_delta)] {
+    for (name, hits) in [
+        ("log p_m", cover_pm),
+        ("p_m", cover_linear),
+        ("delta", cover_delta),
+    ] {
         let rate = hits as f64 / TRIALS as f64;
         assert!((rate - 0.683).abs() < 0.07, "{name}: coverage {rate}");
     }
