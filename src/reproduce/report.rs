@@ -134,6 +134,16 @@ fn family_table(s: &mut String, f: &Family, kind: StudyKind) {
     for r in &f.speeds {
         let free = match &r.phi1_free {
             None => "– | – | –".into(),
+            // A free φ₁ outside (0, φ₂) has left the curve's range: the data do not pin it.
+            Some(e)
+                if !(e.mean_fit.params.phi1 > 0.0
+                    && e.mean_fit.params.phi1 < e.mean_fit.params.phi2) =>
+            {
+                format!(
+                    "not constrained (φ₁ → {}) | – | –",
+                    sig(e.mean_fit.params.phi1)
+                )
+            }
             Some(e) => format!(
                 "{} ± {} | {}",
                 sig(e.mean_fit.params.phi1),
