@@ -11,6 +11,7 @@ use crate::experiment::compression::{Compression, Event};
 use crate::job::reference_engine;
 use crate::material::normal_period_of;
 use crate::output::atomic::write_atomic;
+use crate::output::lock::{host_name, try_lock, Lock};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -61,7 +62,8 @@ type Slot = Arc<OnceLock<Result<Output, String>>>;
 
 /// Results of runs already made, shared by every calibration that holds the cache; with a
 /// directory, also kept on disk (one file per run, named by a hash of its config and holding
-/// the config itself), so an interrupted or repeated calibration does not repeat a run.
+/// the config itself), so an interrupted or repeated calibration does not repeat a run. Several
+/// processes may fill one cache directory at once ([`entry_lock`]).
 #[derive(Default)]
 pub struct RunCache {
     slots: Mutex<HashMap<String, Slot>>,
@@ -97,6 +99,10 @@ impl RunCache {
             if let Some(out) = stored::read(&path, &key) {
                 return Ok(out);
             }
+            let _entry = match entry_lock(&path, &key) {
+                Ok(lock) => lock,
+                Err(out) => return Ok(out),
+            };
             let out = simulate(run);
             if let Ok(o) = &out {
                 // A cache that cannot be written costs a repeat next time, nothing else.
@@ -114,6 +120,35 @@ impl RunCache {
 
     pub fn is_empty(&self) -> bool {
         self.len() == 0
+    }
+}
+
+/// Entries are written atomically (renamed into place), so processes sharing a cache never
+/// read a partial entry; the lock beside an entry (`<entry>.lock`) only keeps two of them from
+/// making the same run. Returns the lock to hold while making the run (none where the cache
+/// cannot be locked, or its holder runs on another host and may be gone: then the run is made
+/// here too, which costs time but nothing else), or the entry another process finished while
+/// this one waited for it.
+fn entry_lock(path: &Path, key: &str) -> Result<Option<Lock>, Output> {
+    let mut lock_path = path.as_os_str().to_owned();
+    lock_path.push(".lock");
+    loop {
+        match try_lock(Path::new(&lock_path)) {
+            Ok(Ok(lock)) => {
+                // Finished by another process between the first look and the lock.
+                return match stored::read(path, key) {
+                    Some(out) => Err(out),
+                    None => Ok(Some(lock)),
+                };
+            }
+            Ok(Err(holder)) if holder.host == host_name() => {
+                std::thread::sleep(std::time::Duration::from_millis(250));
+                if let Some(out) = stored::read(path, key) {
+                    return Err(out);
+                }
+            }
+            Ok(Err(_)) | Err(_) => return Ok(None),
+        }
     }
 }
 

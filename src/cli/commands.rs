@@ -1,7 +1,7 @@
 //! What each subcommand does: load the config, call the library, print what it returns.
 
 use super::args::ReportArgs;
-use super::progress::{interrupt_flag, print_summary, Reporter};
+use super::progress::{interrupt_flag, print_summary, release_locks_on_signal, Reporter};
 use crate::analysis::fit::{fit_eq13, FitOptions};
 use crate::bench::{run_bench, write_tables, Options as BenchOptions};
 use crate::calibrate::synth::{write_synth, SynthSpec};
@@ -17,6 +17,7 @@ use crate::material::{
     chokshi_sticking_velocity, normal_period, rolling_energy_quarter_turn, sliding_period, Derived,
 };
 use crate::output::csv::read_csv;
+use crate::output::lock::lock_dir;
 use crate::sample::{interior_filling_factor, Footprint};
 use crate::sweep::collect::collect;
 use crate::sweep::slurm::Script;
@@ -239,6 +240,10 @@ pub(super) fn calibrate(
     plan: bool,
     cache: &Path,
 ) -> Result<(), String> {
+    let _lock = lock_dir(out)?;
+    // Nothing to checkpoint (finished runs are in the cache): a signal ends the calibration at
+    // once, after removing its locks.
+    release_locks_on_signal();
     let progress = |line: &str| eprintln!("{line}");
     let cache = RunCache::persistent(cache);
     let (lines, files) = if plan {
@@ -329,6 +334,12 @@ pub(super) fn sweep(request: SweepRequest) -> Result<(), String> {
     let out_dir =
         std::path::absolute(&out_dir).map_err(|e| format!("{}: {e}", out_dir.display()))?;
     let cases = spec.cases(&out_dir).map_err(|e| e.to_string())?;
+    // A whole sweep owns its directory; an array task (`--case`) only its case's directory,
+    // which `run_cases` locks, so the tasks of one array run side by side.
+    let _lock = match request.case {
+        None => Some(lock_dir(&out_dir)?),
+        Some(_) => None,
+    };
     let backend = match request.backend {
         Backend::Cpu => "cpu",
         Backend::Gpu => "gpu",
@@ -498,6 +509,9 @@ pub(super) fn reproduce(
     slurm: bool,
     report_only: bool,
 ) -> Result<(), String> {
+    let _lock = lock_dir(&out)?;
+    // The sweeps it starts stop on their own signals; it only needs to leave no lock behind.
+    release_locks_on_signal();
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let request = crate::reproduce::Request {
         tier,

@@ -1,5 +1,6 @@
 //! How a running job shows itself: a progress bar on a terminal, `key=value` lines for scripts,
-//! the signal flag that stops a run at its next checkpoint, and the summary printed at the end.
+//! the signal flag that stops a run at its next checkpoint (and, for commands without one, the
+//! signal handler that releases their locks), and the summary printed at the end.
 
 use super::args::ReportArgs;
 use crate::job::{JobSummary, Progress};
@@ -61,6 +62,22 @@ pub(super) fn interrupt_flag() -> Arc<AtomicBool> {
         let _ = signal_hook::flag::register(signal, Arc::clone(&flag));
     }
     flag
+}
+
+/// For commands without a stop of their own (calibrate, reproduce): SIGINT and SIGTERM remove
+/// the directory locks this process holds, then end it with status 128 + the signal, as the
+/// signal itself would.
+pub(super) fn release_locks_on_signal() {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) else {
+        return;
+    };
+    std::thread::spawn(move || {
+        if let Some(signal) = signals.forever().next() {
+            crate::output::lock::remove_held();
+            std::process::exit(128 + signal);
+        }
+    });
 }
 
 pub(super) fn print_summary(summary: &JobSummary) {

@@ -23,6 +23,7 @@ use crate::engine::{Engine, EngineError};
 use crate::experiment::compression::{Compression, Event, Row, RunError, StopReason};
 use crate::output::checkpoint::write_checkpoint;
 use crate::output::csv::{read_csv, CsvWriter};
+use crate::output::lock::lock_dir;
 use crate::output::run_dir::{
     check_resumable, new_run_id, NewRunDir, RunDir, CONFIG_FILE, PLOT_FILE,
 };
@@ -71,9 +72,10 @@ fn io_err(path: &Path) -> impl Fn(std::io::Error) -> RunError + '_ {
     move |e| RunError::Output(format!("{}: {e}", path.display()))
 }
 
-/// Runs `config`, writing into `out_dir`. A directory holding the results of an earlier run
-/// is refused, unless `replace`: then those results (only files dustdem writes) are removed once
-/// the new run is set up. Everything that can fail in the setup (sample, walls, engine) is
+/// Runs `config`, writing into `out_dir`. A directory another process writes into (its lock,
+/// `output::lock`) is refused, `replace` or not. A directory holding the results of an earlier
+/// run is refused, unless `replace`: then those results (only files dustdem writes) are removed
+/// once the new run is set up. Everything that can fail in the setup (sample, walls, engine) is
 /// done before the directory is touched; if writing the first files fails, they are removed.
 pub fn run_job(
     config: &Config,
@@ -81,6 +83,8 @@ pub fn run_job(
     replace: bool,
     options: &mut JobOptions,
 ) -> Result<JobSummary, RunError> {
+    // Held until the job returns, whatever it returns (an interrupt included).
+    let _lock = lock_dir(out_dir).map_err(RunError::Output)?;
     let fresh = NewRunDir::check(out_dir, replace).map_err(RunError::Output)?;
     let effective = toml::to_string(config).map_err(|e| RunError::Output(e.to_string()))?;
     match config.experiment.kind {
@@ -152,13 +156,14 @@ fn start<E: Engine>(
     drive(config, &dir.dir, &dir.run_id, run, curve, profiles, options)
 }
 
-/// Continues the run a checkpoint belongs to, in the directory that holds the checkpoint:
-/// once that directory's run id and the curve and profile files are checked to be the ones
-/// the checkpoint recorded (before any file is changed), those files are cut back to what
-/// they held at the checkpoint, then appended to. The run continues on the backend the
+/// Continues the run a checkpoint belongs to, in the directory that holds the checkpoint
+/// (locked for the whole resume): once that directory's run id and the curve and profile files
+/// are checked to be the ones the checkpoint recorded (before any file is changed), those files
+/// are cut back to what they held at the checkpoint, then appended to. The run continues on the backend the
 /// options choose; on the backend that wrote the checkpoint it continues bit for bit.
 pub fn resume_job(checkpoint: &Path, options: &mut JobOptions) -> Result<JobSummary, RunError> {
     let loaded = load_checkpoint(checkpoint)?;
+    let _lock = lock_dir(&loaded.out_dir).map_err(RunError::Output)?;
     check_resumable(
         &loaded.out_dir,
         checkpoint,

@@ -7,6 +7,10 @@
 //! runner; `spec` reads the sweep file, `slurm` writes the job-array script, `collect` the
 //! table.
 //!
+//! A case directory is locked (`output::lock`) from the moment its attempt is prepared until its
+//! end is recorded, and the child runs under that lock; the sweep's own directory is locked by a
+//! whole sweep, not by an array task (`--case`), so tasks of one array run side by side.
+//!
 //! A case directory holds, besides what a run writes, `sweep-status.toml` (written atomically:
 //! `running` when an attempt starts, then `done`, `failed` or `interrupted` when it ends) and
 //! `sweep.log` (what each attempt printed). A case counts as finished only when its status says
@@ -23,6 +27,7 @@ pub use spec::{Case, Sweep};
 use crate::job::load_checkpoint;
 use crate::output::atomic::write_atomic;
 use crate::output::csv::read_csv;
+use crate::output::lock::{lock_dir, Lock, HANDED_LOCK_ENV};
 use crate::output::run_dir::{
     earlier_results, read_run_id, CHECKPOINT_FILE, CONFIG_FILE, CURVE_FILE,
 };
@@ -205,6 +210,15 @@ struct Attempt {
     log_offset: u64,
     resumed_from_step: Option<u64>,
     previous: Option<CaseStatus>,
+    /// The case directory's lock, handed to the child; released once the attempt is recorded.
+    _lock: Lock,
+}
+
+/// What [`launch`] did with a case.
+enum Launched {
+    Started(Box<Attempt>),
+    /// Found finished once its directory was locked (another process ran it meanwhile).
+    Finished,
 }
 
 /// Runs `cases` (whose directories are `out_dir/<name>`), at most `settings.jobs` at once,
@@ -234,7 +248,7 @@ pub fn run_cases(
                 } else {
                     to_run += 1;
                 }
-                pending.push((case, state));
+                pending.push(case);
             }
         }
     }
@@ -272,12 +286,20 @@ pub fn run_cases(
             }
         }
         while !stop && running.len() < settings.jobs {
-            let Some((case, state)) = queue.pop() else {
+            let Some(case) = queue.pop() else {
                 break;
             };
             let dir = out_dir.join(&case.name);
-            match launch(case, &dir, &state, settings, &tx) {
-                Ok(attempt) => {
+            match launch(case, &dir, settings, &tx) {
+                Ok(Launched::Finished) => {
+                    finished += 1;
+                    outcome.skipped += 1;
+                    say(&format!(
+                        "sweep [{finished}/{total}] {} finished meanwhile (skipped)",
+                        case.name
+                    ));
+                }
+                Ok(Launched::Started(attempt)) => {
                     say(&match attempt.resumed_from_step {
                         Some(step) => format!(
                             "sweep [{finished}/{total}] resuming {} from step {step}",
@@ -285,7 +307,7 @@ pub fn run_cases(
                         ),
                         None => format!("sweep [{finished}/{total}] started {}", case.name),
                     });
-                    running.push(attempt);
+                    running.push(*attempt);
                 }
                 Err(e) => {
                     say(&format!(
@@ -369,18 +391,26 @@ fn terminate(pid: u32) {
     }
 }
 
-/// Prepares a case's directory and starts its attempt (`run`, or `resume` of its checkpoint)
-/// as a child whose output goes to the case's log; a waiter thread reports its exit on `tx`.
+/// Locks a case's directory, prepares it and starts its attempt (`run`, or `resume` of its
+/// checkpoint) as a child whose output goes to the case's log; a waiter thread reports its
+/// exit on `tx`. The child works under the sweep's lock of the directory (the lock's token in
+/// its environment), so nothing else writes there from before the status says `running` until
+/// the attempt's end is recorded. The case's state is read under the lock: what the sweep read
+/// at its start may be out of date (an array task may have run the case since).
 fn launch(
     case: &Case,
     dir: &Path,
-    state: &CaseState,
     settings: &RunSettings,
     tx: &mpsc::Sender<(usize, std::io::Result<ExitStatus>)>,
-) -> Result<Attempt, String> {
+) -> Result<Launched, String> {
     let at = |p: &Path| {
         let p = p.to_path_buf();
         move |e: std::io::Error| format!("{}: {e}", p.display())
+    };
+    let mut lock = lock_dir(dir)?;
+    let state = match case_state(case, dir)? {
+        CaseState::Done(_) => return Ok(Launched::Finished),
+        state => state,
     };
     fs::create_dir_all(dir).map_err(at(dir))?;
     let config_path = dir.join(CONFIG_FILE);
@@ -390,7 +420,7 @@ fn launch(
     let previous = CaseStatus::read(dir);
     let mut args: Vec<String> = Vec::new();
     let mut resumed_from_step = None;
-    match state {
+    match &state {
         CaseState::Resume(checkpoint) => {
             resumed_from_step = load_checkpoint(checkpoint).ok().map(|c| c.run.engine.step);
             args.extend(["resume".into(), checkpoint.display().to_string()]);
@@ -444,26 +474,31 @@ fn launch(
     let err_log = log.try_clone().map_err(at(&log_path))?;
     let mut child = Command::new(&settings.exe)
         .args(&args)
+        .env(HANDED_LOCK_ENV, lock.token())
         .stdin(Stdio::null())
         .stdout(Stdio::from(log))
         .stderr(Stdio::from(err_log))
         .spawn()
         .map_err(|e| format!("cannot start {}: {e}", settings.exe.display()))?;
     let pid = child.id();
+    // The lock names the child too, so a sweep killed outright leaves its running case locked
+    // (where that cannot be recorded, the lock still names the sweep).
+    let _ = lock.hand_to(pid);
     let tx = tx.clone();
     let index = case.index;
     std::thread::spawn(move || {
         let status = child.wait();
         let _ = tx.send((index, status));
     });
-    Ok(Attempt {
+    Ok(Launched::Started(Box::new(Attempt {
         index,
         pid,
         started: Instant::now(),
         log_offset,
         resumed_from_step,
         previous,
-    })
+        _lock: lock,
+    })))
 }
 
 /// The status an attempt ended in: done (exit 0), interrupted (stopped by a signal it was
