@@ -27,9 +27,9 @@ const TRUTH: Eq13 = Eq13 {
 #[test]
 fn pressure_at_phi_interpolates_between_rows_and_refuses_unreached() {
     let run = run_of(&TRUTH, || 0.0, 43);
-    // Rows at φ = 0.151 + 0.01 k: halfway between rows 10 and 11 lies φ = 0.256.
-    let want = 0.5 * (run.p_top_pa[10] + run.p_top_pa[11]);
-    let got = pressure_at_phi(&run, 0.256).unwrap();
+    // Rows at φ = 0.151 + 0.01 k: a quarter of the way from row 10 to row 11 lies φ = 0.2535.
+    let want = run.p_top_pa[10] + 0.25 * (run.p_top_pa[11] - run.p_top_pa[10]);
+    let got = pressure_at_phi(&run, 0.2535).unwrap();
     assert!((got / want - 1.0).abs() < 1e-12, "{got} vs {want}");
     assert_eq!(pressure_at_phi(&run, 0.6), None);
     // Before the first row there is nothing to interpolate from.
