@@ -220,6 +220,11 @@ fn seeds_combine_to_mean_and_standard_error() {
 /// Profiles of a run whose wall moves at `v_wall` from `H`, whose dense layer's lower edge moves
 /// at the mass-balance speed for φ₀ = 0.15 and PHI_DENSE, led by a precursor `lead` ahead.
 fn layered_run(v_wall: f64, lead: f64) -> (Vec<Profile>, f64) {
+    delayed_run(v_wall, lead, 0.0)
+}
+
+/// [`layered_run`] whose wall and layer only start to move `delay` seconds after the start.
+fn delayed_run(v_wall: f64, lead: f64, delay: f64) -> (Vec<Profile>, f64) {
     let v_p = v_wall / (1.0 - 0.15 / PHI_DENSE);
     let init = vec![0.15; SLABS];
     let mut first = profile(0.0, init.clone(), Some(H));
@@ -228,7 +233,8 @@ fn layered_run(v_wall: f64, lead: f64) -> (Vec<Profile>, f64) {
     let mut rng = Rng::new(3);
     for k in 1..=40 {
         let t = k as f64 * 0.02 * H / v_p;
-        let (wall, edge) = (H - v_wall * t, H - v_p * t);
+        let moving = (t - delay).max(0.0);
+        let (wall, edge) = (H - v_wall * moving, H - v_p * moving);
         let phi = compacted(&init, wall, edge, edge - lead, 0.03, 0.0, &mut rng);
         out.push(profile(t, phi, Some(wall)));
     }
@@ -267,4 +273,39 @@ fn elapsed_front_needs_the_starting_wall() {
     run[0].wall_m = None;
     assert!(elapsed_front_speed(&run, 0.01).is_none());
     assert!(mass_balance_front(&run, &FrontOptions::default(), 5.0).is_none());
+}
+
+#[test]
+fn elapsed_front_reads_only_fronts_in_the_middle_half() {
+    // Nothing moves for 2 µs: v = v_p (1 − t₀/t) is lowest early on, so the profiles whose
+    // front lies in the top quarter would pull the mean down.
+    let (delay, v_wall) = (2e-6, 5.0);
+    let (run, v_p) = delayed_run(v_wall, 0.0, delay);
+    let (mut middle, mut all) = (Vec::new(), Vec::new());
+    for p in &run[1..] {
+        let depth = v_p * (p.time_s - delay);
+        if depth <= 2.0 * D {
+            continue;
+        }
+        let v = v_p * (1.0 - delay / p.time_s);
+        all.push(v);
+        if (0.25..=0.75).contains(&(1.0 - depth / H)) {
+            middle.push(v);
+        }
+    }
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    // A slab of error in the front over the earliest time in the middle half.
+    let tol = D / (delay + 15e-6 / v_p);
+    let gap = (mean(&middle) - mean(&all)).abs();
+    assert!(
+        gap > 2.0 * tol,
+        "the test must tell them apart: {gap} vs {tol}"
+    );
+    let e = elapsed_front_speed(&run, 0.01).unwrap();
+    assert_eq!(e.profiles, middle.len());
+    assert!(
+        (e.v - mean(&middle)).abs() < tol,
+        "{e:?} vs {}",
+        mean(&middle)
+    );
 }
