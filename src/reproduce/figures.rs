@@ -4,23 +4,13 @@
 
 use super::analysis::{reference, Family};
 use super::report::Analysed;
-use crate::analysis::fit::Eq13;
 use crate::analysis::speed_laws::{PAPER_DELTA, PAPER_PM_DYNAMIC, PAPER_PM_QUASI_STATIC};
 use crate::output::plot::{Plot, Series, Style, PALETTE};
+use crate::sweep::analyze::{law_series, reference_series};
 use std::path::Path;
 
 pub fn curve_name(study: &str, f: &Family) -> String {
     format!("{study}_phi_p_{}_n{}.svg", f.variant, f.monomers)
-}
-
-fn reference_series(name: &str, eq: &Eq13) -> Series {
-    let points = (0..=60)
-        .map(|k| {
-            let p = 10f64.powf(1.0 + 6.0 * k as f64 / 60.0);
-            (p, eq.phi(p))
-        })
-        .collect();
-    Series::new(name, points, Style::Dashed).color(0x000000)
 }
 
 fn curve_plot(a: &Analysed, f: &Family) -> Plot {
@@ -46,18 +36,8 @@ fn curve_plot(a: &Analysed, f: &Family) -> Plot {
         );
     }
     let (name, eq) = reference(a.study.kind);
-    plot.series.push(reference_series(name, &eq));
+    plot.series.push(reference_series(name, &eq, 0x000000));
     plot
-}
-
-fn law(name: &str, eval: impl Fn(f64) -> f64, from: f64, to: f64, color: u32) -> Series {
-    let points = (0..=50)
-        .map(|k| {
-            let v = from + (to - from) * k as f64 / 50.0;
-            (v, eval(v))
-        })
-        .collect();
-    Series::new(name, points, Style::Dashed).color(color)
 }
 
 /// p_m (`delta` false) or Δ against wall speed for every family of the study.
@@ -96,7 +76,7 @@ fn speed_plot(a: &Analysed, delta: bool) -> Option<Plot> {
         return None;
     }
     if delta {
-        plot.series.push(law(
+        plot.series.push(law_series(
             "paper, Eq. 17",
             |v| PAPER_DELTA.eval(v),
             0.0,
@@ -104,14 +84,14 @@ fn speed_plot(a: &Analysed, delta: bool) -> Option<Plot> {
             0x000000,
         ));
     } else {
-        plot.series.push(law(
+        plot.series.push(law_series(
             "paper, Eq. 14",
             |v| PAPER_PM_QUASI_STATIC.eval(v),
             0.0,
             1.0,
             0x000000,
         ));
-        plot.series.push(law(
+        plot.series.push(law_series(
             "paper, Eq. 15",
             |v| PAPER_PM_DYNAMIC.eval(v),
             1.0,

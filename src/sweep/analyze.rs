@@ -31,7 +31,7 @@ mod figures;
 mod tests;
 
 use figures::{curves_plot, delta_plot, pm_plot, profiles_plot};
-pub use figures::{first_seeds, profile_figure_name};
+pub use figures::{first_seeds, law_series, profile_figure_name, reference_series};
 
 /// Wall speeds from this one up are dynamic compression (the paper's v ≥ 1 m/s).
 pub const DYNAMIC_FROM: f64 = 1.0;

@@ -3,7 +3,8 @@
 
 use super::*;
 
-fn reference_series(name: &str, eq: &Eq13, color: u32) -> Series {
+/// A measured Eq. 13 curve over 10–10⁷ Pa, dashed.
+pub fn reference_series(name: &str, eq: &Eq13, color: u32) -> Series {
     let points = (0..=60)
         .map(|k| {
             let p = 10f64.powf(1.0 + 6.0 * k as f64 / 60.0);
@@ -40,7 +41,8 @@ pub(super) fn curves_plot(f: &Family) -> Plot {
     plot
 }
 
-fn law_series(name: &str, eval: impl Fn(f64) -> f64, from: f64, to: f64, color: u32) -> Series {
+/// A speed law drawn from `from` to `to`, dashed.
+pub fn law_series(name: &str, eval: impl Fn(f64) -> f64, from: f64, to: f64, color: u32) -> Series {
     let points = (0..=50)
         .map(|k| {
             let v = from + (to - from) * k as f64 / 50.0;
