@@ -22,3 +22,8 @@ pub mod rng;
 pub mod sample;
 pub mod state;
 pub mod sweep;
+
+/// Exit status of `run`, `resume` and `sweep` when a signal stopped them after a checkpoint
+/// (BSD's EX_TEMPFAIL: try again later). A job script requeues on it; `dustdem resume` or the
+/// same sweep command continues.
+pub const RESUMABLE_EXIT: u8 = 75;

@@ -234,17 +234,26 @@ fn png_lines_that_repeat_points_and_turn_back_stay_inside_the_frame() {
     let mut reader = png::Decoder::new(bytes.as_slice()).read_info().unwrap();
     let mut rgb = vec![0; reader.output_buffer_size()];
     reader.next_frame(&mut rgb).unwrap();
-    let want = [0x00, 0x72, 0xB2];
-    let columns: Vec<usize> = rgb
-        .chunks(3)
-        .enumerate()
-        .filter(|(_, px)| *px == want)
-        .map(|(k, _)| k % 640)
-        .collect();
-    assert!(columns.len() > 1000, "the curve is drawn");
-    // The frame spans about x = 86..614 (y-label area 74 px and margins of 12 and 26 px).
-    let outside = columns.iter().filter(|&&x| !(80..620).contains(&x)).count();
-    assert_eq!(outside, 0, "pixels of the curve outside the frame");
+    // The raw rows (light grey) and the envelope (blue): both drawn, neither outside.
+    for (want, what) in [
+        ([0xC8, 0xC8, 0xC8], "raw rows"),
+        ([0x00, 0x72, 0xB2], "envelope"),
+    ] {
+        let columns: Vec<usize> = rgb
+            .chunks(3)
+            .enumerate()
+            .filter(|(_, px)| *px == want)
+            .map(|(k, _)| k % 640)
+            .collect();
+        assert!(
+            columns.len() > 500,
+            "the {what} are drawn: {}",
+            columns.len()
+        );
+        // The frame spans about x = 86..614 (y-label area 74 px and margins of 12 and 26 px).
+        let outside = columns.iter().filter(|&&x| !(80..620).contains(&x)).count();
+        assert_eq!(outside, 0, "pixels of the {what} outside the frame");
+    }
 }
 
 #[test]
@@ -258,7 +267,8 @@ fn compression_curve_shows_simulation_and_reference_over_seven_decades() {
         "Compressive strength",
         "pressure P [Pa]",
         "filling factor φ",
-        "simulation (top wall)",
+        "every row (top wall)",
+        "simulation (first passage, median of 9 rows)",
         "Güttler et al. 2009 (Eq. 13)",
     ] {
         assert_eq!(svg.has_text(text), 1, "{text}");
@@ -283,4 +293,45 @@ fn compression_curve_shows_simulation_and_reference_over_seven_decades() {
     );
     assert!(plot.save(dir.join("missing").join("curve.svg")).is_err());
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn the_curve_draws_first_passage_of_the_median_not_single_spikes() {
+    // 100 rows at 100 Pa while φ rises from 0.15 to 0.25, one row spiking to 10⁶ Pa at
+    // φ ≈ 0.2 (a jammed contact chain), then a steady rise to 10⁵ Pa by φ = 0.45.
+    let mut rows: Vec<(f64, f64)> = (0..100)
+        .map(|i| (if i == 50 { 1e6 } else { 100.0 }, 0.15 + 0.001 * i as f64))
+        .collect();
+    rows.extend((1..=100).map(|i| {
+        (
+            100.0 * 10f64.powf(3.0 * i as f64 / 100.0),
+            0.25 + 0.002 * i as f64,
+        )
+    }));
+    let plot = dustdem::job::curve_plot(ExperimentKind::Omni, &rows);
+    let raw = &plot.series[0];
+    let drawn = &plot.series[1];
+    assert!(
+        raw.points.iter().any(|&(p, _)| p == 1e6),
+        "the spike stays visible behind"
+    );
+    // The median of 9 rows never sees a single spike: 10⁶ Pa is not reached before φ = 0.45.
+    assert!(
+        drawn
+            .points
+            .iter()
+            .all(|&(p, phi)| p < 1.01e5 || phi > 0.44),
+        "{:?}",
+        drawn.points
+    );
+    // First passage: pressures rise strictly along the drawn curve, and φ never falls.
+    for w in drawn.points.windows(2) {
+        assert!(w[1].0 > w[0].0 && w[1].1 >= w[0].1, "{w:?}");
+    }
+    // It reaches 10⁵ Pa (the last rows) within the median's half-window of the end.
+    let (p_end, phi_end) = *drawn.points.last().unwrap();
+    assert!(
+        p_end > 0.8e5 && (phi_end - 0.45).abs() < 0.011,
+        "{p_end} {phi_end}"
+    );
 }

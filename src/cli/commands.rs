@@ -1,7 +1,9 @@
 //! What each subcommand does: load the config, call the library, print what it returns.
 
 use super::args::ReportArgs;
-use super::progress::{interrupt_flag, print_summary, release_locks_on_signal, Reporter};
+use super::progress::{
+    interrupt_flag, mark_stopped_at_checkpoint, print_summary, release_locks_on_signal, Reporter,
+};
 use crate::analysis::fit::{fit_eq13, FitOptions};
 use crate::bench::{run_bench, write_tables, Options as BenchOptions};
 use crate::calibrate::synth::{write_synth, SynthSpec};
@@ -21,7 +23,7 @@ use crate::output::lock::lock_dir;
 use crate::sample::{interior_filling_factor, Footprint};
 use crate::sweep::collect::collect;
 use crate::sweep::slurm::Script;
-use crate::sweep::spec::check_slurm_time;
+use crate::sweep::slurm_settings::check_slurm_time;
 use crate::sweep::{case_state, run_cases, write_case_list, RunSettings, Sweep, CASES_FILE};
 use std::path::{Path, PathBuf};
 
@@ -83,7 +85,7 @@ fn drive(
     let quiet = args.quiet;
     let mut notice = |line: &str| {
         if !quiet {
-            eprintln!("{line}");
+            reporter.note(line);
         }
     };
     let mut options = JobOptions {
@@ -94,6 +96,9 @@ fn drive(
     };
     let result = job(&mut options);
     reporter.finish();
+    if matches!(result, Err(RunError::Interrupted { .. })) {
+        mark_stopped_at_checkpoint();
+    }
     print_summary(&result.map_err(|e| e.to_string())?);
     Ok(())
 }
@@ -432,6 +437,9 @@ pub(super) fn sweep(request: SweepRequest) -> Result<(), String> {
     if request.case.is_none() {
         let collected = collect(&out_dir)?;
         println!("wrote {}", collected.table.display());
+    }
+    if outcome.failed.is_empty() && !outcome.interrupted.is_empty() {
+        mark_stopped_at_checkpoint();
     }
     let mut problems = Vec::new();
     for (name, why) in &outcome.failed {

@@ -16,7 +16,8 @@ use commands::{
 };
 use std::process::ExitCode;
 
-/// Parses the command line and runs the command; errors are printed, exit status 2.
+/// Parses the command line and runs the command; errors are printed, exit status 2
+/// ([`crate::RESUMABLE_EXIT`] where a signal stopped it at a checkpoint).
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     // Only these look for a GPU (`--backend cpu` never does). Before any thread starts.
@@ -160,7 +161,11 @@ pub fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(message) => {
             eprintln!("error: {message}");
-            ExitCode::from(2)
+            if progress::stopped_at_checkpoint() {
+                ExitCode::from(crate::RESUMABLE_EXIT)
+            } else {
+                ExitCode::from(2)
+            }
         }
     }
 }

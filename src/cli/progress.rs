@@ -5,7 +5,7 @@
 use super::args::ReportArgs;
 use crate::job::{JobSummary, Progress};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 /// Shows progress as a bar (on a terminal), as machine-readable lines, or not at all.
@@ -47,6 +47,14 @@ impl Reporter {
         }
     }
 
+    /// A line between the bar's redraws (a plain line where there is no bar).
+    pub(super) fn note(&self, line: &str) {
+        match &self.bar {
+            Some(bar) => bar.println(line),
+            None => eprintln!("{line}"),
+        }
+    }
+
     pub(super) fn finish(&self) {
         if let Some(bar) = &self.bar {
             bar.finish_and_clear();
@@ -62,6 +70,18 @@ pub(super) fn interrupt_flag() -> Arc<AtomicBool> {
         let _ = signal_hook::flag::register(signal, Arc::clone(&flag));
     }
     flag
+}
+
+/// Set when the command stopped on a signal after writing its checkpoints (and nothing
+/// failed): it then exits with [`crate::RESUMABLE_EXIT`] instead of the error status.
+static STOPPED_AT_CHECKPOINT: AtomicBool = AtomicBool::new(false);
+
+pub(super) fn mark_stopped_at_checkpoint() {
+    STOPPED_AT_CHECKPOINT.store(true, Ordering::SeqCst);
+}
+
+pub(super) fn stopped_at_checkpoint() -> bool {
+    STOPPED_AT_CHECKPOINT.load(Ordering::SeqCst)
 }
 
 /// For commands without a stop of their own (calibrate, reproduce): SIGINT and SIGTERM remove

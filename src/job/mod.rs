@@ -21,6 +21,7 @@ use crate::backend::gpu::engine::GpuEngine;
 use crate::config::{Config, ExperimentKind};
 use crate::engine::{Engine, EngineError};
 use crate::experiment::compression::{Compression, Event, Row, RunError, StopReason};
+use crate::output::atomic::remove_stale_temporaries;
 use crate::output::checkpoint::write_checkpoint;
 use crate::output::csv::{read_csv, CsvWriter};
 use crate::output::lock::lock_dir;
@@ -64,7 +65,7 @@ pub struct JobOptions<'a> {
     /// Set by a signal handler: checkpoint at the next row and stop.
     pub interrupt: Option<&'a AtomicBool>,
     pub backend: Backend,
-    /// Receives one line naming the backend chosen.
+    /// Receives one line naming the backend chosen, and one per checkpoint (size, seconds).
     pub notice: &'a mut dyn FnMut(&str),
 }
 
@@ -164,6 +165,14 @@ fn start<E: Engine>(
 pub fn resume_job(checkpoint: &Path, options: &mut JobOptions) -> Result<JobSummary, RunError> {
     let loaded = load_checkpoint(checkpoint)?;
     let _lock = lock_dir(&loaded.out_dir).map_err(RunError::Output)?;
+    // A run killed outright (SIGKILL, a node lost) may have been writing a file.
+    let stale = remove_stale_temporaries(&loaded.out_dir).map_err(io_err(&loaded.out_dir))?;
+    for path in stale {
+        (options.notice)(&format!(
+            "removed {}, left by a writer that was killed while writing it",
+            path.display()
+        ));
+    }
     check_resumable(
         &loaded.out_dir,
         checkpoint,
@@ -264,6 +273,7 @@ fn drive<E: Engine>(
     let e = &config.experiment;
     let (phi_stop, max_steps) = (e.phi_stop, e.max_steps);
     let progress = &mut options.progress;
+    let notice = &mut options.notice;
     let interrupt = options.interrupt;
     let stop = run.run(&mut |event| match event {
         Event::Row(row) => {
@@ -304,8 +314,16 @@ fn drive<E: Engine>(
                 || (every_seconds > 0.0
                     && last_checkpoint.elapsed().as_secs_f64() >= every_seconds);
             if due || interrupted {
+                let clock = Instant::now();
                 let body = checkpoint_body(config, run_id, state, &curve, &profiles)?;
                 write_checkpoint(&checkpoint_path, &body).map_err(io_err(&checkpoint_path))?;
+                // What a scheduler's warning must leave time for (`[slurm] signal_lead_s`).
+                notice(&format!(
+                    "checkpoint at step {}: {:.1} MB written in {:.2} s",
+                    state.engine.step_count(),
+                    body.len() as f64 / 1e6,
+                    clock.elapsed().as_secs_f64()
+                ));
                 rows_since_checkpoint = 0;
                 last_checkpoint = Instant::now();
             }
@@ -356,11 +374,7 @@ fn finish<E: Engine>(
     let (header, rows) = read_csv(curve_path).map_err(RunError::Output)?;
     let column = |name: &str| header.iter().position(|h| h == name).unwrap();
     let (ip, iphi) = (column("p_top_pa"), column("phi"));
-    let points: Vec<(f64, f64)> = rows
-        .iter()
-        .filter(|r| r[ip] > 0.0)
-        .map(|r| (r[ip], r[iphi]))
-        .collect();
+    let points: Vec<(f64, f64)> = rows.iter().map(|r| (r[ip], r[iphi])).collect();
     let plot_path = out_dir.join(PLOT_FILE);
     curve_plot(run.kind, &points)
         .save(&plot_path)

@@ -65,6 +65,39 @@ where
     Ok(())
 }
 
+/// Whether `name` is one of [`write_atomic_with`]'s temporary files: `.NAME.XXXXXX.tmp`, with
+/// tempfile's six random alphanumerics.
+fn is_temporary_name(name: &str) -> bool {
+    let Some(inner) = name.strip_prefix('.').and_then(|n| n.strip_suffix(".tmp")) else {
+        return false;
+    };
+    match inner.rsplit_once('.') {
+        Some((target, random)) => {
+            !target.is_empty()
+                && random.len() == 6
+                && random.chars().all(|c| c.is_ascii_alphanumeric())
+        }
+        None => false,
+    }
+}
+
+/// Removes the temporary files a writer killed outright (SIGKILL, a node failure) left in
+/// `dir`; returns what it removed. Only for a directory the caller holds the lock of
+/// (`output::lock`): otherwise the file may be another writer's, still being written.
+pub fn remove_stale_temporaries(dir: &Path) -> io::Result<Vec<std::path::PathBuf>> {
+    let mut removed = Vec::new();
+    for entry in std::fs::read_dir(dir)? {
+        let entry = entry?;
+        let is_file = entry.file_type().is_ok_and(|t| t.is_file());
+        if is_file && is_temporary_name(&entry.file_name().to_string_lossy()) {
+            std::fs::remove_file(entry.path())?;
+            removed.push(entry.path());
+        }
+    }
+    removed.sort();
+    Ok(removed)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -120,6 +153,42 @@ mod tests {
         assert_eq!(err.to_string(), "body failed");
         assert_eq!(std::fs::read(&path).unwrap(), b"kept");
         assert_eq!(entries(&dir), ["out.txt"]);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn only_this_writers_temporary_files_count_as_stale() {
+        let dir = scratch("stale");
+        for name in [
+            ".checkpoint.bin.a1B2c3.tmp",
+            ".curve.svg.ZZZZZZ.tmp",
+            ".checkpoint.bin.a1B2c.tmp",
+            "..abcdef.tmp",
+            ".dustdem.lock",
+            "notes.tmp",
+            "curve.csv",
+        ] {
+            std::fs::write(dir.join(name), b"x").unwrap();
+        }
+        let removed = remove_stale_temporaries(&dir).unwrap();
+        let names: Vec<String> = removed
+            .iter()
+            .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(
+            names,
+            [".checkpoint.bin.a1B2c3.tmp", ".curve.svg.ZZZZZZ.tmp"]
+        );
+        assert_eq!(
+            entries(&dir),
+            [
+                "..abcdef.tmp",
+                ".checkpoint.bin.a1B2c.tmp",
+                ".dustdem.lock",
+                "curve.csv",
+                "notes.tmp"
+            ]
+        );
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

@@ -20,6 +20,7 @@
 pub mod analyze;
 pub mod collect;
 pub mod slurm;
+pub mod slurm_settings;
 pub mod spec;
 
 pub use spec::{Case, Sweep};

@@ -7,6 +7,7 @@
 //! parsed and checked as any config is: a case the config checks refuse (a time step above
 //! the stability limit of a stiffer variant, say) stops the sweep before anything runs.
 
+use super::slurm_settings::{slurm_settings, SlurmSettings};
 use crate::config::{Config, ConfigError};
 use serde::de::{Deserializer, MapAccess, Visitor};
 use serde::Deserialize;
@@ -62,31 +63,6 @@ pub struct Variant {
     pub overrides: toml::Table,
 }
 
-/// `[slurm]`: what the job-array script asks the scheduler for.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SlurmSettings {
-    /// Time limit per array task, Slurm's format (`MM`, `HH:MM:SS`, `D-HH:MM:SS`, ...).
-    pub time: String,
-    /// Memory per array task [MB].
-    pub mem_mb: u64,
-    pub partition: Option<String>,
-    pub account: Option<String>,
-    /// At most this many array tasks at once (`--array=0-(K-1)%N`); 0: no limit.
-    pub max_running: u64,
-}
-
-impl Default for SlurmSettings {
-    fn default() -> Self {
-        SlurmSettings {
-            time: "01:00:00".to_string(),
-            mem_mb: 2000,
-            partition: None,
-            account: None,
-            max_running: 0,
-        }
-    }
-}
-
 /// One case of a sweep: its place in the product, its parameters and its config.
 #[derive(Clone, Debug)]
 pub struct Case {
@@ -103,13 +79,18 @@ pub struct Case {
 }
 
 /// Collects problems, each naming the sweep file, the field, the value and what is allowed.
-struct Problems<'a> {
+pub(super) struct Problems<'a> {
     file: &'a str,
     errors: Vec<ConfigError>,
 }
 
 impl Problems<'_> {
-    fn fail(&mut self, field: &str, value: impl fmt::Display, allowed: impl Into<String>) {
+    pub(super) fn fail(
+        &mut self,
+        field: &str,
+        value: impl fmt::Display,
+        allowed: impl Into<String>,
+    ) {
         self.errors.push(ConfigError {
             file: self.file.to_string(),
             field: field.to_string(),
@@ -238,21 +219,6 @@ fn valid_name(name: &str) -> bool {
             .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
 }
 
-/// Slurm's time formats: `M`, `M:S`, `H:M:S`, `D-H`, `D-H:M`, `D-H:M:S`.
-fn valid_slurm_time(t: &str) -> bool {
-    let (days, rest) = match t.split_once('-') {
-        Some((d, r)) => (Some(d), r),
-        None => (None, t),
-    };
-    let digits = |s: &str| !s.is_empty() && s.len() <= 4 && s.chars().all(|c| c.is_ascii_digit());
-    if days.is_some_and(|d| !digits(d)) {
-        return false;
-    }
-    let parts: Vec<&str> = rest.split(':').collect();
-    let max_parts = 3;
-    parts.len() <= max_parts && parts.iter().all(|p| digits(p)) && !(t == "0" || t == "00")
-}
-
 /// Whether `key` is a key of config section `section`.
 fn is_config_key(section: &str, key: &str) -> bool {
     let defaults = toml::Value::try_from(Config::default()).expect("the default config serializes");
@@ -344,7 +310,7 @@ impl Sweep {
                         "slurm",
                         value,
                         "must be a table: [slurm] with time, mem_mb, partition, account, \
-                         max_running",
+                         max_running, signal_lead_s, requeue",
                     ),
                 },
                 other => p.fail(
@@ -711,90 +677,9 @@ fn resolve_overrides(p: &mut Problems, variant: &str, table: &toml::Table) -> to
     out
 }
 
-fn slurm_settings(p: &mut Problems, table: Option<&toml::Table>) -> SlurmSettings {
-    let mut s = SlurmSettings::default();
-    for (key, value) in table.into_iter().flatten() {
-        let field = format!("[slurm] {key}");
-        match key.as_str() {
-            "time" => match value.as_str() {
-                Some(t) if valid_slurm_time(t) => s.time = t.to_string(),
-                _ => p.fail(
-                    &field,
-                    value,
-                    "must be a Slurm time limit such as \"30\" (minutes), \"02:00:00\" or \
-                     \"1-00:00:00\"",
-                ),
-            },
-            "mem_mb" => match value.as_integer() {
-                Some(m) if (1..=16_000_000).contains(&m) => s.mem_mb = m as u64,
-                _ => p.fail(
-                    &field,
-                    value,
-                    "must be an integer between 1 and 16000000 (MB)",
-                ),
-            },
-            "partition" | "account" => match value.as_str() {
-                Some(t) if valid_slurm_word(t) => {
-                    if key == "partition" {
-                        s.partition = Some(t.to_string());
-                    } else {
-                        s.account = Some(t.to_string());
-                    }
-                }
-                _ => p.fail(
-                    &field,
-                    value,
-                    "must be a name of letters, digits, '_', '-', '.' or ','",
-                ),
-            },
-            "max_running" => match value.as_integer() {
-                Some(m) if (0..=100_000).contains(&m) => s.max_running = m as u64,
-                _ => p.fail(
-                    &field,
-                    value,
-                    "must be an integer between 0 (no limit) and 100000",
-                ),
-            },
-            _ => p.fail(
-                &field,
-                value,
-                "unknown key; allowed: time, mem_mb, partition, account, max_running",
-            ),
-        }
-    }
-    s
-}
-
-fn valid_slurm_word(t: &str) -> bool {
-    !t.is_empty()
-        && t.chars()
-            .all(|c| c.is_ascii_alphanumeric() || "_-.,".contains(c))
-}
-
-/// Checks a `--time` value given on the command line.
-pub fn check_slurm_time(t: &str) -> Result<(), String> {
-    if valid_slurm_time(t) {
-        Ok(())
-    } else {
-        Err(format!(
-            "--time {t}: not a Slurm time limit; allowed e.g. 30 (minutes), 02:00:00, 1-00:00:00"
-        ))
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn slurm_times() {
-        for ok in ["30", "02:00:00", "1-00:00:00", "1-12", "90:00"] {
-            assert!(valid_slurm_time(ok), "{ok}");
-        }
-        for bad in ["", "1h", "1:2:3:4", "-1", "0", "a-1"] {
-            assert!(!valid_slurm_time(bad), "{bad}");
-        }
-    }
 
     #[test]
     fn speed_labels_keep_a_decimal_point() {

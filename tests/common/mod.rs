@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod printed;
+pub mod slurm;
 
 use dustdem::backend::cpu::CpuEngine;
 use dustdem::material::Material;
