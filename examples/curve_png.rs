@@ -25,11 +25,8 @@ fn main() -> Result<(), String> {
             .ok_or(name.to_string())
     };
     let (p, phi) = (column("p_top_pa")?, column("phi")?);
-    let points: Vec<(f64, f64)> = rows
-        .iter()
-        .filter(|r| r[p] > 0.0)
-        .map(|r| (r[p], r[phi]))
-        .collect();
+    // Every row in time order, as the run's own curve.svg is drawn from.
+    let points: Vec<(f64, f64)> = rows.iter().map(|r| (r[p], r[phi])).collect();
     let png = panels_png(&[curve_plot(config.experiment.kind, &points)])?;
     std::fs::write(&out, png).map_err(|e| format!("{}: {e}", out.display()))?;
     println!("{}", out.display());
