@@ -197,17 +197,22 @@ fn a_run_killed_three_times_and_resumed_ends_as_one_left_alone() {
     segments.push(last);
     let reference = reference_thread.join().unwrap();
 
-    let (first, end) = summary("killed and resumed", &segments);
-    let (ref_first, ref_end) = summary("left alone", std::slice::from_ref(&reference));
-    // Flat: what grows is the contact lists' pages first touched as the sample compresses
-    // (a few MiB at 2000 monomers); a leak of a row's worth of memory per row would not stay
-    // inside 10 % (or 8 MiB) over thousands of rows.
-    for (name, a, b) in [("killed", first, end), ("alone", ref_first, ref_end)] {
-        assert!(
-            b - a < (0.1 * a).max(8.0),
-            "{name}: RSS grew from {a:.1} to {b:.1} MiB"
-        );
-    }
+    let (_, end) = summary("killed and resumed", &segments);
+    let (_, ref_end) = summary("left alone", std::slice::from_ref(&reference));
+    // Memory: the last resumed process ran only the rows after the last kill, the process
+    // left alone ran them all; both end in the same state. Memory leaked per row would leave
+    // the long-lived one above the short-lived one, memory a kill or a resume leaves behind
+    // the other way round: both end within 10 % of each other. (Neither is flat from start to
+    // end: at 10⁵ monomers both rose from 157 MiB after setup to a 210 MiB peak and ended near
+    // 189 MiB; at 2000 monomers pushed to φ = 0.7 from 10.5 to 12.9 MiB as the contacts
+    // multiply.)
+    let last_segment = segments.last().and_then(|s| s.rss.last().copied());
+    let last_segment = last_segment.unwrap_or(end);
+    assert!(
+        (last_segment - ref_end).abs() < 0.1 * ref_end,
+        "RSS at the end: {last_segment:.1} MiB in the last resumed process, {ref_end:.1} MiB \
+         in the process left alone"
+    );
     let files = result_files(&alone);
     assert!(files.len() >= 4, "{files:?}");
     assert_eq!(files, result_files(&killed), "the same result files");

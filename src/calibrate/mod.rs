@@ -14,6 +14,8 @@ pub mod gap;
 pub mod measured;
 pub mod report;
 pub mod simulate;
+pub mod slurm;
+mod stored;
 pub mod synth;
 pub mod workflow;
 

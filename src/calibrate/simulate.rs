@@ -4,6 +4,8 @@
 //! engine is deterministic), and are spread over threads.
 
 use super::measured::Geometry;
+use super::slurm::{run_batch, SlurmRuns};
+use super::stored;
 use crate::binary::fnv1a64;
 use crate::config::{Config, ExperimentKind, FootprintKind, SampleSource};
 use crate::experiment::collision::{analytic_sticking_speed, head_on_collision, Outcome};
@@ -41,12 +43,37 @@ pub enum Run {
 }
 
 impl Run {
-    fn key(&self) -> String {
+    /// The cache key: the kind of run and its complete config (TOML).
+    pub fn key(&self) -> String {
         let (tag, c) = match self {
             Run::Compression(c) => ("compression", c),
             Run::Sticking(c) => ("sticking", c),
         };
         format!("{tag}\n{}", toml::to_string(c).expect("configs serialise"))
+    }
+
+    /// The run a key names (the inverse of [`Run::key`]).
+    pub fn from_key(key: &str) -> Result<Run, String> {
+        let (tag, text) = key.split_once('\n').unwrap_or((key, ""));
+        let config = || Config::parse(text, "calibration run request").map_err(|e| e.to_string());
+        match tag {
+            "compression" => Ok(Run::Compression(config()?)),
+            "sticking" => Ok(Run::Sticking(config()?)),
+            other => Err(format!(
+                "unknown run kind {other:?}; allowed: compression, sticking"
+            )),
+        }
+    }
+
+    /// A short name for logs.
+    pub fn describe(&self) -> String {
+        match self {
+            Run::Compression(c) => format!(
+                "compression of {} monomers (seed {}) at {} m/s",
+                c.sample.monomers, c.sample.seed, c.experiment.wall_speed_m_s
+            ),
+            Run::Sticking(_) => "sticking threshold".to_string(),
+        }
     }
 }
 
@@ -68,6 +95,8 @@ type Slot = Arc<OnceLock<Result<Output, String>>>;
 pub struct RunCache {
     slots: Mutex<HashMap<String, Slot>>,
     dir: Option<PathBuf>,
+    /// Make missing runs as Slurm job arrays ([`super::slurm`]) before reading them here.
+    slurm: Option<SlurmRuns>,
 }
 
 impl RunCache {
@@ -80,7 +109,55 @@ impl RunCache {
         RunCache {
             slots: Mutex::default(),
             dir: Some(dir.to_path_buf()),
+            slurm: None,
         }
+    }
+
+    /// A persistent cache whose missing runs are made on Slurm, a job array per batch.
+    pub fn on_slurm(dir: &Path, slurm: SlurmRuns) -> Self {
+        RunCache {
+            slurm: Some(slurm),
+            ..Self::persistent(dir)
+        }
+    }
+
+    /// Where the cache keeps `run` on disk (none for a cache in memory only).
+    pub fn entry_path(&self, run: &Run) -> Option<PathBuf> {
+        let key = run.key();
+        self.dir
+            .as_ref()
+            .map(|d| d.join(format!("{:016x}.run", fnv1a64(key.as_bytes()))))
+    }
+
+    /// Whether `run` is done: in memory or stored.
+    fn holds(&self, run: &Run) -> bool {
+        let key = run.key();
+        let in_memory = self
+            .slots
+            .lock()
+            .map(|s| s.get(&key).is_some_and(|slot| slot.get().is_some()))
+            .unwrap_or(false);
+        in_memory
+            || self
+                .entry_path(run)
+                .is_some_and(|p| stored::read(&p, &key).is_some())
+    }
+
+    /// On Slurm: makes every run of `runs` the cache does not hold as one job array.
+    fn make_on_slurm(&self, runs: &[Run]) -> Result<(), String> {
+        let (Some(slurm), Some(dir)) = (&self.slurm, &self.dir) else {
+            return Ok(());
+        };
+        let mut missing: Vec<&Run> = Vec::new();
+        for run in runs {
+            if !self.holds(run) && !missing.contains(&run) {
+                missing.push(run);
+            }
+        }
+        if missing.is_empty() {
+            return Ok(());
+        }
+        run_batch(slurm, dir, &missing, &|line| eprintln!("{line}")).map(|_| ())
     }
 
     /// The output of `run`, simulated on first request. Concurrent requests for the same run
@@ -98,6 +175,14 @@ impl RunCache {
             let path = dir.join(format!("{:016x}.run", fnv1a64(key.as_bytes())));
             if let Some(out) = stored::read(&path, &key) {
                 return Ok(out);
+            }
+            if self.slurm.is_some() {
+                // Its array task did not store it: say so rather than make it here.
+                return Err(format!(
+                    "{} was not made by its Slurm array task (see the task logs under {})",
+                    run.describe(),
+                    dir.join("slurm").display()
+                ));
             }
             let _entry = match entry_lock(&path, &key) {
                 Ok(lock) => lock,
@@ -152,75 +237,6 @@ fn entry_lock(path: &Path, key: &str) -> Result<Option<Lock>, Output> {
     }
 }
 
-/// The on-disk form of a run's output: a header, the run's full key (its config, compared on
-/// reading so a hash collision reads as a miss), and the values as exact f64 bit patterns.
-mod stored {
-    use super::{Envelope, Output};
-    use std::path::Path;
-
-    const HEADER: &str = "dustdem calibration run 1";
-
-    fn bits(x: f64) -> String {
-        format!("{:016x}", x.to_bits())
-    }
-
-    fn value(text: &str) -> Option<f64> {
-        u64::from_str_radix(text, 16).ok().map(f64::from_bits)
-    }
-
-    pub fn write(key: &str, out: &Output) -> String {
-        let mut s = format!("{HEADER}\n{}\n{key}\n", key.len());
-        match out {
-            Output::Sticking(v) => s.push_str(&format!("sticking {}\n", bits(*v))),
-            Output::Envelope(e) => {
-                s.push_str(&format!("envelope {}\n", e.phi.len()));
-                for (phi, p) in e.phi.iter().zip(&e.log10_p) {
-                    s.push_str(&format!("{} {}\n", bits(*phi), bits(*p)));
-                }
-                if let Some(f) = &e.failure {
-                    s.push_str(&format!("failure {}\n", f.replace('\n', " ")));
-                }
-            }
-        }
-        s
-    }
-
-    /// The stored output of the run with `key`, or None (no file, another run, damaged).
-    pub fn read(path: &Path, key: &str) -> Option<Output> {
-        let text = std::fs::read_to_string(path).ok()?;
-        let rest = text.strip_prefix(HEADER)?.strip_prefix('\n')?;
-        let (len, rest) = rest.split_once('\n')?;
-        let len: usize = len.parse().ok()?;
-        let stored_key = rest.get(..len)?;
-        if stored_key != key {
-            return None;
-        }
-        let mut lines = rest.get(len..)?.strip_prefix('\n')?.lines();
-        let (kind, n) = lines.next()?.split_once(' ')?;
-        match kind {
-            "sticking" => Some(Output::Sticking(value(n)?)),
-            "envelope" => {
-                let n: usize = n.parse().ok()?;
-                let mut e = Envelope {
-                    phi: Vec::with_capacity(n),
-                    log10_p: Vec::with_capacity(n),
-                    failure: None,
-                };
-                for _ in 0..n {
-                    let (a, b) = lines.next()?.split_once(' ')?;
-                    e.phi.push(value(a)?);
-                    e.log10_p.push(value(b)?);
-                }
-                if let Some(line) = lines.next() {
-                    e.failure = Some(line.strip_prefix("failure ")?.to_string());
-                }
-                Some(Output::Envelope(e))
-            }
-            _ => None,
-        }
-    }
-}
-
 /// Runs `runs` on `threads` threads (at least one) and returns their outputs in order.
 /// `done` is called after each run with (finished, total).
 pub fn run_all(
@@ -229,6 +245,9 @@ pub fn run_all(
     threads: usize,
     done: &(dyn Fn(usize, usize) + Sync),
 ) -> Vec<Result<Output, String>> {
+    if let Err(e) = cache.make_on_slurm(runs) {
+        return runs.iter().map(|_| Err(e.clone())).collect();
+    }
     let next = AtomicUsize::new(0);
     let finished = AtomicUsize::new(0);
     let results: Vec<Mutex<Option<Result<Output, String>>>> =

@@ -106,6 +106,28 @@ pub(super) enum Command {
         /// repeat them (default: OUT/run_cache).
         #[arg(long)]
         cache: Option<PathBuf>,
+        /// Make each batch of runs a step needs as a Slurm job array over the run cache (one
+        /// run per task; `sbatch --wait`), then go on; the result is the local calibration's.
+        #[arg(long)]
+        slurm: bool,
+        /// Time limit of each array task (Slurm's format).
+        #[arg(long, default_value = "01:00:00", requires = "slurm")]
+        slurm_time: String,
+        /// Memory per array task [MB].
+        #[arg(long, default_value_t = 2000, requires = "slurm")]
+        slurm_mem_mb: u64,
+        /// At most this many array tasks at once (0: no limit).
+        #[arg(long, default_value_t = 0, requires = "slurm")]
+        slurm_max_running: u64,
+    },
+    /// One run of a `calibrate --slurm` job array (used by its script): makes the run a
+    /// request file names and stores it in the run cache.
+    #[command(hide = true)]
+    CalibrateRun {
+        #[arg(long)]
+        cache: PathBuf,
+        #[arg(long)]
+        request: PathBuf,
     },
     /// Measure particle-steps per second of the engines (and of LAMMPS with --lammps) on RBD
     /// samples under 1 m/s omnidirectional compression; writes bench.md and bench.csv.

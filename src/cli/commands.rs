@@ -6,8 +6,6 @@ use super::progress::{
 };
 use crate::analysis::fit::{fit_eq13, FitOptions};
 use crate::bench::{run_bench, write_tables, Options as BenchOptions};
-use crate::calibrate::synth::{write_synth, SynthSpec};
-use crate::calibrate::{parse_effect, run_calibration, run_plan, RunCache, Settings};
 use crate::config::{stable_time_step, Config};
 use crate::experiment::collision::analytic_sticking_speed;
 use crate::experiment::compression::RunError;
@@ -234,59 +232,6 @@ pub(super) fn info(config: Option<PathBuf>, monomers: Option<usize>) -> Result<(
     for line in gpu_report(&config, monomers.unwrap_or(config.sample.monomers)) {
         println!("{line}");
     }
-    Ok(())
-}
-
-pub(super) fn calibrate(
-    measured: &[PathBuf],
-    config: &Path,
-    out: &Path,
-    settings: &Settings,
-    plan: bool,
-    cache: &Path,
-) -> Result<(), String> {
-    let _lock = lock_dir(out)?;
-    // Nothing to checkpoint (finished runs are in the cache): a signal ends the calibration at
-    // once, after removing its locks.
-    release_locks_on_signal();
-    let progress = |line: &str| eprintln!("{line}");
-    let cache = RunCache::persistent(cache);
-    let (lines, files) = if plan {
-        run_plan(measured, config, out, settings, &cache, &progress)?
-    } else {
-        run_calibration(measured, config, out, settings, &cache, &progress)?
-    };
-    for line in lines {
-        println!("{line}");
-    }
-    println!("results in {}:", out.display());
-    for f in files {
-        println!("  {}", f.display());
-    }
-    Ok(())
-}
-
-pub(super) fn synth(
-    config: &Path,
-    effects: &[String],
-    spec: &SynthSpec,
-    threads: Option<usize>,
-    out: &Path,
-) -> Result<(), String> {
-    let config = Config::load(config).map_err(|e| e.to_string())?;
-    let effects = effects
-        .iter()
-        .map(|e| parse_effect(e).map_err(|e| e.to_string()))
-        .collect::<Result<Vec<_>, _>>()?;
-    let threads = threads.unwrap_or_else(|| Settings::default().threads);
-    let progress = |line: &str| eprintln!("{line}");
-    let set = write_synth(&config, &effects, spec, threads, out, &progress)?;
-    println!(
-        "wrote {} ({} compression curve(s), {} sticking velocity)",
-        out.display(),
-        set.compression.len(),
-        set.sticking.len()
-    );
     Ok(())
 }
 

@@ -2,6 +2,7 @@
 //! `progress` (bars, log lines, signals, summaries). `main.rs` only calls [`main`].
 
 mod args;
+mod calibration;
 mod commands;
 mod progress;
 
@@ -9,10 +10,10 @@ use crate::calibrate::synth::SynthSpec;
 use crate::calibrate::Settings;
 use crate::job::{Backend, PrivateRuntimeDir};
 use args::{Cli, Command, SweepAction};
+use calibration::{calibrate, calibrate_run, synth, SlurmRequest};
 use clap::Parser;
 use commands::{
-    bench, calibrate, fit, generate, info, reproduce, resume, run, sweep, sweep_analyze,
-    sweep_collect, synth,
+    bench, fit, generate, info, reproduce, resume, run, sweep, sweep_analyze, sweep_collect,
 };
 use std::process::ExitCode;
 
@@ -60,8 +61,17 @@ pub fn main() -> ExitCode {
             threads,
             plan,
             cache,
+            slurm,
+            slurm_time,
+            slurm_mem_mb,
+            slurm_max_running,
         } => {
             let cache = cache.unwrap_or_else(|| out.join("run_cache"));
+            let slurm = slurm.then_some(SlurmRequest {
+                time: slurm_time,
+                mem_mb: slurm_mem_mb,
+                max_running: slurm_max_running,
+            });
             let mut settings = Settings {
                 seeds,
                 max_rounds: rounds,
@@ -70,8 +80,9 @@ pub fn main() -> ExitCode {
             if let Some(t) = threads {
                 settings.threads = t;
             }
-            calibrate(&measured, &config, &out, &settings, plan, &cache)
+            calibrate(&measured, &config, &out, &settings, plan, &cache, slurm)
         }
+        Command::CalibrateRun { cache, request } => calibrate_run(&cache, &request),
         Command::Bench {
             sizes,
             seconds,

@@ -188,6 +188,11 @@ impl LocalSlurm {
         slurm
     }
 
+    /// The cluster's slurm.conf (for SLURM_CONF of programs that call Slurm's clients).
+    pub fn conf(&self) -> &Path {
+        &self.conf
+    }
+
     /// A Slurm client command talking to this cluster.
     pub fn client(&self, name: &str) -> Command {
         let mut c = Command::new(find_program(name).unwrap());

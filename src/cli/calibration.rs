@@ -1,0 +1,95 @@
+//! The calibration commands: `calibrate` (locally or on Slurm job arrays), the hidden
+//! `calibrate-run` of those arrays' tasks, and `synth`.
+
+use super::progress::release_locks_on_signal;
+use crate::calibrate::slurm::{run_request, SlurmRuns};
+use crate::calibrate::synth::{write_synth, SynthSpec};
+use crate::calibrate::{parse_effect, run_calibration, run_plan, RunCache, Settings};
+use crate::config::Config;
+use crate::output::lock::lock_dir;
+use crate::sweep::slurm_settings::{check_slurm_time, SlurmSettings};
+use std::path::{Path, PathBuf};
+
+/// `calibrate --slurm`: what each batch's job array asks for.
+pub(super) struct SlurmRequest {
+    pub(super) time: String,
+    pub(super) mem_mb: u64,
+    pub(super) max_running: u64,
+}
+
+pub(super) fn calibrate(
+    measured: &[PathBuf],
+    config: &Path,
+    out: &Path,
+    settings: &Settings,
+    plan: bool,
+    cache: &Path,
+    slurm: Option<SlurmRequest>,
+) -> Result<(), String> {
+    let _lock = lock_dir(out)?;
+    // Nothing to checkpoint (finished runs are in the cache): a signal ends the calibration at
+    // once, after removing its locks.
+    release_locks_on_signal();
+    let progress = |line: &str| eprintln!("{line}");
+    let cache = match slurm {
+        None => RunCache::persistent(cache),
+        Some(r) => {
+            check_slurm_time(&r.time)?;
+            let exe = std::env::current_exe()
+                .and_then(|e| e.canonicalize())
+                .map_err(|e| format!("cannot find this binary for the job arrays: {e}"))?;
+            let cache =
+                std::path::absolute(cache).map_err(|e| format!("{}: {e}", cache.display()))?;
+            let settings = SlurmSettings {
+                time: r.time,
+                mem_mb: r.mem_mb,
+                max_running: r.max_running,
+                ..SlurmSettings::default()
+            };
+            RunCache::on_slurm(&cache, SlurmRuns { exe, settings })
+        }
+    };
+    let (lines, files) = if plan {
+        run_plan(measured, config, out, settings, &cache, &progress)?
+    } else {
+        run_calibration(measured, config, out, settings, &cache, &progress)?
+    };
+    for line in lines {
+        println!("{line}");
+    }
+    println!("results in {}:", out.display());
+    for f in files {
+        println!("  {}", f.display());
+    }
+    Ok(())
+}
+
+/// `dustdem calibrate-run`: one task of a `calibrate --slurm` job array.
+pub(super) fn calibrate_run(cache: &Path, request: &Path) -> Result<(), String> {
+    println!("{}", run_request(cache, request)?);
+    Ok(())
+}
+
+pub(super) fn synth(
+    config: &Path,
+    effects: &[String],
+    spec: &SynthSpec,
+    threads: Option<usize>,
+    out: &Path,
+) -> Result<(), String> {
+    let config = Config::load(config).map_err(|e| e.to_string())?;
+    let effects = effects
+        .iter()
+        .map(|e| parse_effect(e).map_err(|e| e.to_string()))
+        .collect::<Result<Vec<_>, _>>()?;
+    let threads = threads.unwrap_or_else(|| Settings::default().threads);
+    let progress = |line: &str| eprintln!("{line}");
+    let set = write_synth(&config, &effects, spec, threads, out, &progress)?;
+    println!(
+        "wrote {} ({} compression curve(s), {} sticking velocity)",
+        out.display(),
+        set.compression.len(),
+        set.sticking.len()
+    );
+    Ok(())
+}
