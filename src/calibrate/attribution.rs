@@ -8,6 +8,7 @@
 use super::effects::Effect;
 use super::gap::{chi2_quantile_95, gap, shift_chi2, Gap, Prediction};
 use super::measured::MeasuredSet;
+use super::outside::outside_library;
 
 /// χ² must fall by more than this towards a range end for the search to widen there.
 pub const FALLING: f64 = 0.1;
@@ -533,14 +534,26 @@ pub fn attribute(m: &MeasuredSet, baseline: &Gap, grids: &[Grid]) -> (Vec<Effect
         .collect();
     fits.sort_by(|a, b| a.chi2.total_cmp(&b.chi2));
     let single = single_observable(m, baseline, grids);
+    let decision = decide(baseline, &fits);
+    let outside_candidates = outside_library(baseline, &fits, &decision, !m.compression.is_empty())
+        .map_or(Vec::new(), |o| o.candidates);
     if let Some(best) = fits.first().map(|f| f.chi2) {
         let weights: Vec<f64> = fits
             .iter()
             .map(|f| (-0.5 * (f.chi2 - best)).exp())
             .collect();
         // With one observable, each parameter outside the library that moves it is as
-        // good an explanation a priori as the best fit.
-        let outside = single.as_ref().map_or(0, |s| s.outside.len()) as f64;
+        // good an explanation a priori as the best fit; so is each candidate outside the
+        // library when the fits tie, sit on a bound or leave the gap beyond noise.
+        let mut outside: Vec<String> = single.as_ref().map_or(Vec::new(), |s| {
+            s.outside.iter().map(|o| o.to_string()).collect()
+        });
+        for c in outside_candidates {
+            if !outside.contains(&c) {
+                outside.push(c);
+            }
+        }
+        let outside = outside.len() as f64;
         // The damping's two forms are one explanation: only each family's best counts.
         let total: f64 = fits
             .iter()
@@ -558,7 +571,6 @@ pub fn attribute(m: &MeasuredSet, baseline: &Gap, grids: &[Grid]) -> (Vec<Effect
             f.confidence = w / total;
         }
     }
-    let decision = decide(baseline, &fits);
     (fits, decision)
 }
 

@@ -12,6 +12,7 @@ pub mod effects;
 pub mod figures;
 pub mod gap;
 pub mod measured;
+pub mod outside;
 pub mod report;
 pub mod simulate;
 pub mod slurm;

@@ -300,6 +300,15 @@ pub fn markdown(cal: &Calibration, measured: &str, config_path: &Path) -> String
         if let Some(single) = &round.single {
             single_observable_text(&mut s, single);
         }
+        if let Some(outside) = &round.outside {
+            let _ = writeln!(
+                s,
+                "**The cause may lie outside the library:** {}. Candidates the model itself \
+                 suggests: {}. Confidences count each as one equally good explanation.\n",
+                outside.signs.join("; "),
+                outside.candidates.join("; ")
+            );
+        }
         held_out_table(&mut s, round);
         let _ = writeln!(s, "**Decision:** {}.\n", describe_decision(&round.decision));
         if let Some(effect) = round.decision.chosen() {

@@ -10,6 +10,7 @@ use super::attribution::{
 use super::effects::Effect;
 use super::gap::{gap, targets, Gap, Prediction};
 use super::measured::{Geometry, MeasuredSet};
+use super::outside::{outside_library, OutsideLibrary};
 use super::simulate::{
     compression_config, run_all, sticking_config, Output, Run, RunCache, STICKING_TOLERANCE,
 };
@@ -59,6 +60,8 @@ pub struct Round {
     pub detection: Vec<DetectionLimit>,
     /// Set when the gap rests on one curve alone.
     pub single: Option<SingleObservable>,
+    /// Set when the cause may lie outside the library (ties, bounds, a gap left).
+    pub outside: Option<OutsideLibrary>,
     /// Fits sorted by χ², best first (empty when the gap was within noise).
     pub fits: Vec<EffectFit>,
     pub decision: Decision,
@@ -263,6 +266,7 @@ pub fn calibrate(
                 gap_before: before,
                 detection,
                 single: None,
+                outside: None,
                 fits: Vec::new(),
                 decision: Decision::WithinNoise,
                 applied: None,
@@ -274,12 +278,14 @@ pub fn calibrate(
         refine(&mut predictor, &current, &mut grids, round)?;
         let single = single_observable(measured, &before, &grids);
         let (fits, decision) = attribute(measured, &before, &grids);
+        let outside = outside_library(&before, &fits, &decision, !measured.compression.is_empty());
         report_fits(progress, round, &fits, &decision);
         let Some(effect) = decision.chosen() else {
             rounds.push(Round {
                 gap_before: before,
                 detection,
                 single,
+                outside,
                 fits,
                 decision,
                 applied: None,
@@ -315,6 +321,7 @@ pub fn calibrate(
             gap_before: before,
             detection,
             single,
+            outside,
             fits,
             decision,
             applied: Some((effect, factor)),
