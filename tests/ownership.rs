@@ -2,7 +2,8 @@
 //! (runs, whole sweeps, array tasks of one case) leave exactly one winner, the others exit
 //! with status 2 naming it, and the directory holds the winner's files only; array tasks of
 //! different cases do not refuse each other; a lock left by a killed run is taken over, a live
-//! one is never broken (`--force` included), and one from another host is not guessed at.
+//! one is never broken (`--force` included), and one from another host is not guessed at;
+//! writers racing into one calibration run cache make each run once.
 //! Tiny CPU runs of the built binary.
 
 mod common;
@@ -393,4 +394,65 @@ fn terminate(pid: u32) {
     unsafe {
         libc::kill(pid as libc::pid_t, libc::SIGTERM);
     }
+}
+
+/// Concurrent writers of one run cache (the array tasks of `calibrate --slurm`, several
+/// calibrations sharing a cache): four `calibrate-run` processes released together on the same
+/// request, five rounds with a new run each. Exactly one makes the run (its entry lock), the
+/// others wait and read it; all exit 0, the cache holds one entry per run, and no entry lock
+/// is left.
+#[test]
+fn racing_writers_of_one_run_cache_make_each_run_once() {
+    use dustdem::calibrate::measured::Geometry;
+    use dustdem::calibrate::simulate::{compression_config, Run};
+    use dustdem::config::Config;
+    let s = Scratch::new("race-cache");
+    let cache = s.join("cache");
+    let (rounds, writers) = (5, 4);
+    for round in 0..rounds {
+        let base = Config::parse(&config(round + 1), "race").unwrap();
+        let run = Run::Compression(compression_config(&base, Geometry::Omni, round + 1, 1e4));
+        let request = s.join(format!("request-{round}.key"));
+        std::fs::write(&request, run.key()).unwrap();
+        let args = strings(&[
+            "calibrate-run",
+            "--cache",
+            cache.to_str().unwrap(),
+            "--request",
+            request.to_str().unwrap(),
+        ]);
+        let results = race(&vec![args; writers]);
+        let made = results
+            .iter()
+            .filter(|(_, o)| text(&o.stdout).contains(" made and stored in "))
+            .count();
+        let found = results
+            .iter()
+            .filter(|(_, o)| text(&o.stdout).contains(" found in "))
+            .count();
+        for (pid, o) in &results {
+            assert!(
+                o.status.success(),
+                "round {round}, {pid}: {}",
+                text(&o.stderr)
+            );
+        }
+        assert_eq!((made, found), (1, writers - 1), "round {round}");
+        let entries: Vec<String> = std::fs::read_dir(&cache)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(
+            entries.iter().filter(|n| n.ends_with(".run")).count(),
+            round as usize + 1,
+            "{entries:?}"
+        );
+        assert!(
+            !entries
+                .iter()
+                .any(|n| n.ends_with(".lock") || n.ends_with(".tmp")),
+            "{entries:?}"
+        );
+    }
+    eprintln!("run cache: {rounds} rounds of {writers} writers: {rounds} runs made once each");
 }

@@ -97,6 +97,8 @@ pub struct RunCache {
     dir: Option<PathBuf>,
     /// Make missing runs as Slurm job arrays ([`super::slurm`]) before reading them here.
     slurm: Option<SlurmRuns>,
+    /// Runs this process simulated (not read back from disk or another process).
+    made: AtomicUsize,
 }
 
 impl RunCache {
@@ -107,9 +109,8 @@ impl RunCache {
     /// A cache that also stores every finished run in `dir` and reads it back from there.
     pub fn persistent(dir: &Path) -> Self {
         RunCache {
-            slots: Mutex::default(),
             dir: Some(dir.to_path_buf()),
-            slurm: None,
+            ..Self::default()
         }
     }
 
@@ -170,6 +171,7 @@ impl RunCache {
         };
         slot.get_or_init(|| {
             let Some(dir) = &self.dir else {
+                self.made.fetch_add(1, Ordering::Relaxed);
                 return simulate(run);
             };
             let path = dir.join(format!("{:016x}.run", fnv1a64(key.as_bytes())));
@@ -188,6 +190,7 @@ impl RunCache {
                 Ok(lock) => lock,
                 Err(out) => return Ok(out),
             };
+            self.made.fetch_add(1, Ordering::Relaxed);
             let out = simulate(run);
             if let Ok(o) = &out {
                 // A cache that cannot be written costs a repeat next time, nothing else.
@@ -197,6 +200,11 @@ impl RunCache {
             out
         })
         .clone()
+    }
+
+    /// How many runs this process simulated itself.
+    pub fn made(&self) -> usize {
+        self.made.load(Ordering::Relaxed)
     }
 
     pub fn len(&self) -> usize {

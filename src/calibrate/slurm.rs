@@ -137,8 +137,13 @@ pub fn run_request(cache: &Path, request: &Path) -> Result<String, String> {
     let store = super::simulate::RunCache::persistent(cache);
     store.get(&run)?;
     Ok(format!(
-        "{} stored in {}",
+        "{} {} {}",
         run.describe(),
+        if store.made() > 0 {
+            "made and stored in"
+        } else {
+            "found in"
+        },
         store
             .entry_path(&run)
             .map_or_else(|| cache.display().to_string(), |p| p.display().to_string())
