@@ -27,8 +27,13 @@ fn headline<'a>(a: &'a Analysed, variant: &str) -> Option<&'a Family> {
         .max_by_key(|f| f.monomers)
 }
 
+/// Our conditions for a claim resting on all speeds of `f` (the most seeds any speed has).
 fn conditions(f: &Family, a: &Analysed) -> String {
     let seeds = f.speeds.iter().map(|s| s.seeds.len()).max().unwrap_or(0);
+    seeds_condition(f, a, seeds)
+}
+
+fn seeds_condition(f: &Family, a: &Analysed, seeds: usize) -> String {
     let planned = a.study.seeds.len();
     format!("ours: {} monomers, {seeds} of {planned} seeds", f.monomers)
 }
@@ -94,7 +99,9 @@ pub fn claims(all: &[Analysed]) -> Vec<Claim> {
             out.push(verdicts::regimes_claim(f));
             out.push(verdicts::front_claim(f));
         }
-        out.extend(verdicts::per_speed_claims(f, &cond));
+        // A claim at one speed names the seeds of that speed.
+        let at_speed = |seeds: usize| format!("calibrated model; {}", seeds_condition(f, a, seeds));
+        out.extend(verdicts::per_speed_claims(f, &at_speed));
         let laws = speed_laws(f);
         let all_laws = verdicts::law_claims(&laws, &cond);
         // Eqs. 15–17 from the dynamic study, Eq. 14 and v_crit from the slow one.

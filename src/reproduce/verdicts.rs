@@ -209,10 +209,12 @@ impl Claim {
 }
 
 /// p_m and Δ at each speed against Eqs. 14/15 and 17.
-pub fn per_speed_claims(f: &Family, conditions: &str) -> Vec<Claim> {
+pub fn per_speed_claims(f: &Family, conditions_with: &dyn Fn(usize) -> String) -> Vec<Claim> {
     let mut out = Vec::new();
     for s in &f.speeds {
         let v = s.speed;
+        let conditions = conditions_with(s.seeds.len());
+        let conditions = conditions.as_str();
         let (paper_pm, eq) = if v <= 1.0 {
             (PAPER_PM_QUASI_STATIC.eval(v), "Eq. 14")
         } else {
