@@ -14,6 +14,7 @@
 use super::simulate::Run;
 use crate::binary::fnv1a64;
 use crate::output::atomic::write_atomic;
+use crate::sweep::slurm::sh_quote;
 use crate::sweep::slurm_settings::SlurmSettings;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -25,11 +26,6 @@ pub struct SlurmRuns {
     pub exe: PathBuf,
     /// Time, memory, partition, account and the most tasks at once of each array.
     pub settings: SlurmSettings,
-}
-
-/// A word for a POSIX shell, single-quoted.
-fn sh_quote(s: &str) -> String {
-    format!("'{}'", s.replace('\'', "'\\''"))
 }
 
 /// The batch's directory under the cache: named by the hash of its requests in order.

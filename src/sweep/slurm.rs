@@ -23,7 +23,7 @@ pub struct Script<'a> {
 }
 
 /// A word for a POSIX shell, single-quoted.
-fn sh_quote(s: &str) -> String {
+pub(crate) fn sh_quote(s: &str) -> String {
     format!("'{}'", s.replace('\'', "'\\''"))
 }
 
