@@ -8,7 +8,8 @@
 use super::effects::Effect;
 use super::gap::{chi2_quantile_95, gap, shift_chi2, Gap, Prediction};
 use super::measured::MeasuredSet;
-use super::outside::outside_library;
+pub use super::outside::SingleObservable;
+use super::outside::{outside_library, single_observable};
 
 /// χ² must fall by more than this towards a range end for the search to widen there.
 pub const FALLING: f64 = 0.1;
@@ -436,68 +437,6 @@ impl Decision {
 /// not the 95% one: with three curves a true effect would otherwise fail a prediction by
 /// chance in one data set of seven.
 pub const PREDICTION_LIMIT: f64 = 6.63;
-
-/// The signal rests on one observable: only this curve is beyond noise at the baseline, so
-/// whatever moves it explains the data as well as the named effect.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SingleObservable {
-    pub curve: String,
-    /// Library effects whose searched range moves that curve beyond its noise.
-    pub library: Vec<Effect>,
-    /// What moves it outside the library.
-    pub outside: Vec<&'static str>,
-}
-
-/// What moves a sticking velocity or a compression curve that the library does not hold.
-fn outside_movers(sticking: bool) -> Vec<&'static str> {
-    if sticking {
-        vec![
-            "Poisson's ratio",
-            "off-centre impacts and spinning grains in the experiment",
-            "grain shape and surface roughness",
-        ]
-    } else {
-        vec![
-            "the wall speed",
-            "how the sample was prepared (its packing before compression)",
-            "the monomer size distribution",
-            "the sample size (boundary effects)",
-        ]
-    }
-}
-
-/// Whether the baseline signal rests on one curve, and what moves that curve.
-pub fn single_observable(
-    m: &MeasuredSet,
-    baseline: &Gap,
-    grids: &[Grid],
-) -> Option<SingleObservable> {
-    let limit = chi2_quantile_95(1);
-    let beyond: Vec<usize> = (0..baseline.curves.len())
-        .filter(|&j| baseline.curves[j].chi2 > limit)
-        .collect();
-    let [j] = beyond[..] else { return None };
-    let mut library: Vec<Effect> = Vec::new();
-    for g in grids {
-        let Some((_, reference)) = g.points.iter().find(|(u, _)| *u == 0.0) else {
-            continue;
-        };
-        if !g.effect.identity_at_one() {
-            continue;
-        }
-        let moves = [&g.points[0].1, &g.points[g.points.len() - 1].1]
-            .iter()
-            .any(|end| shift_chi2(m, reference, end, (1.0, 1.0))[j] > limit);
-        if moves && !library.contains(&g.effect.family()) {
-            library.push(g.effect.family());
-        }
-    }
-    Some(SingleObservable {
-        curve: baseline.curves[j].name.clone(),
-        library,
-        outside: outside_movers(j >= m.compression.len()),
-    })
-}
 
 /// Fits every grid and decides. `baseline` is the gap of the unchanged model.
 pub fn attribute(m: &MeasuredSet, baseline: &Gap, grids: &[Grid]) -> (Vec<EffectFit>, Decision) {

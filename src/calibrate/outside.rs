@@ -1,12 +1,13 @@
 //! When the answer may lie outside the effect library: the best effects tie, the best fit sits
 //! on a bound of its searched range, or the best fit leaves a gap beyond noise (a shape no
-//! effect matches). Then the report names what the model itself suggests instead: the
+//! effect matches), or the signal rests on one observable. Then the report names what the model itself suggests instead: the
 //! constants the effects' formulas share with others (a factor on one of them can stand for a
 //! change of the other), and the setup of the simulation.
 
-use super::attribution::{Decision, EffectFit};
+use super::attribution::{Decision, EffectFit, Grid};
 use super::effects::Effect;
-use super::gap::Gap;
+use super::gap::{chi2_quantile_95, shift_chi2, Gap};
+use super::measured::MeasuredSet;
 
 /// Why a parameter outside the library may be the cause, and which ones.
 #[derive(Clone, Debug, PartialEq)]
@@ -120,6 +121,68 @@ pub fn outside_library(
     }
     candidates.extend(setup_candidates(has_compression));
     Some(OutsideLibrary { signs, candidates })
+}
+
+/// The signal rests on one observable: only this curve is beyond noise at the baseline, so
+/// whatever moves it explains the data as well as the named effect.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SingleObservable {
+    pub curve: String,
+    /// Library effects whose searched range moves that curve beyond its noise.
+    pub library: Vec<Effect>,
+    /// What moves it outside the library.
+    pub outside: Vec<&'static str>,
+}
+
+/// What moves a sticking velocity or a compression curve that the library does not hold.
+fn outside_movers(sticking: bool) -> Vec<&'static str> {
+    if sticking {
+        vec![
+            "Poisson's ratio",
+            "off-centre impacts and spinning grains in the experiment",
+            "grain shape and surface roughness",
+        ]
+    } else {
+        vec![
+            "the wall speed",
+            "how the sample was prepared (its packing before compression)",
+            "the monomer size distribution",
+            "the sample size (boundary effects)",
+        ]
+    }
+}
+
+/// Whether the baseline signal rests on one curve, and what moves that curve.
+pub fn single_observable(
+    m: &MeasuredSet,
+    baseline: &Gap,
+    grids: &[Grid],
+) -> Option<SingleObservable> {
+    let limit = chi2_quantile_95(1);
+    let beyond: Vec<usize> = (0..baseline.curves.len())
+        .filter(|&j| baseline.curves[j].chi2 > limit)
+        .collect();
+    let [j] = beyond[..] else { return None };
+    let mut library: Vec<Effect> = Vec::new();
+    for g in grids {
+        let Some((_, reference)) = g.points.iter().find(|(u, _)| *u == 0.0) else {
+            continue;
+        };
+        if !g.effect.identity_at_one() {
+            continue;
+        }
+        let moves = [&g.points[0].1, &g.points[g.points.len() - 1].1]
+            .iter()
+            .any(|end| shift_chi2(m, reference, end, (1.0, 1.0))[j] > limit);
+        if moves && !library.contains(&g.effect.family()) {
+            library.push(g.effect.family());
+        }
+    }
+    Some(SingleObservable {
+        curve: baseline.curves[j].name.clone(),
+        library,
+        outside: outside_movers(j >= m.compression.len()),
+    })
 }
 
 #[cfg(test)]

@@ -4,13 +4,12 @@
 //! apply it, re-simulate, and repeat while a gap beyond noise remains.
 
 use super::attribution::{
-    attribute, detection_limit, single_observable, Decision, DetectionLimit, EffectFit, Grid,
-    SingleObservable,
+    attribute, detection_limit, Decision, DetectionLimit, EffectFit, Grid, SingleObservable,
 };
 use super::effects::Effect;
 use super::gap::{gap, targets, Gap, Prediction};
 use super::measured::{Geometry, MeasuredSet};
-use super::outside::{outside_library, OutsideLibrary};
+use super::outside::{outside_library, single_observable, OutsideLibrary};
 use super::simulate::{
     compression_config, run_all, sticking_config, Output, Run, RunCache, STICKING_TOLERANCE,
 };
