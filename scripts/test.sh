@@ -91,4 +91,45 @@ if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
   export XDG_RUNTIME_DIR
   trap 'rm -rf "$XDG_RUNTIME_DIR"' EXIT
 fi
+# --- User guide (mdBook) ---------------------------------------------------------------------
+# Builds docs/guide into docs/guide/book; a chapter missing from SUMMARY.md or a broken include
+# fails the build (create-missing = false). Links are checked by tests/guide_links.rs below.
+# mdbook is installed through cargo when missing (0.4.52 needs Rust 1.82 or newer).
+MDBOOK_VERSION=0.4.52
+mdbook=mdbook
+if ! command -v mdbook >/dev/null 2>&1; then
+  cargo install mdbook --locked --version "$MDBOOK_VERSION"
+  mdbook="${CARGO_HOME:-$HOME/.cargo}/bin/mdbook"
+fi
+"$mdbook" build docs/guide
+# --- end of user guide ----------------------------------------------------------------------
+
+# --- Python package (python/: PyO3 extension + pure-Python layer, built with maturin) ---------
+# A virtual environment under target/ with maturin, numpy, pytest, matplotlib and pandas; the
+# extension is built into it (sharing target/ with the crate), then python/tests run against
+# the dustdem program built here, whose runs they compare with (examples/phi_p.py included).
+# Debian's python3 needs python3-venv for `python3 -m venv`; it is installed when missing.
+pyenv=target/pyenv
+if [ ! -x "$pyenv/bin/pip" ]; then
+  rm -rf "$pyenv"
+  if ! python3 -m venv "$pyenv"; then
+    rm -rf "$pyenv"
+    if command -v apt-get >/dev/null 2>&1; then
+      sudo=""
+      [ "$(id -u)" -ne 0 ] && sudo="sudo"
+      py=$(python3 -c 'import sys; print("python%d.%d" % sys.version_info[:2])')
+      $sudo apt-get update -q
+      DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q "$py-venv" ||
+        DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q python3-venv
+    fi
+    python3 -m venv "$pyenv"
+  fi
+fi
+"$pyenv/bin/python" -m pip install -q --disable-pip-version-check \
+  maturin numpy pytest matplotlib pandas
+cargo build --release --bin dustdem
+VIRTUAL_ENV="$PWD/$pyenv" "$pyenv/bin/maturin" develop --release -m python/Cargo.toml
+DUSTDEM_EXE="$PWD/target/release/dustdem" "$pyenv/bin/python" -m pytest python/tests -q
+# --- end of Python package ------------------------------------------------------------------
+
 cargo test --release "$@"

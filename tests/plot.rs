@@ -3,7 +3,7 @@
 //! colours in it; the compression curve of `dustdem run`.
 
 use dustdem::config::ExperimentKind;
-use dustdem::output::plot::{panels_png, Plot, Series, Style, PALETTE};
+use dustdem::output::plot::{panels_png, panels_svg, Plot, Series, Style, PALETTE};
 use quick_xml::events::Event;
 use quick_xml::Reader;
 
@@ -334,4 +334,24 @@ fn the_curve_draws_first_passage_of_the_median_not_single_spikes() {
         p_end > 0.8e5 && (phi_end - 0.45).abs() < 0.011,
         "{p_end} {phi_end}"
     );
+}
+
+/// Seven 640×480 panels read at page width: rows of three (1920 px), the last row holding one.
+#[test]
+fn many_panels_wrap_into_rows_of_three_in_png_and_svg() {
+    let panels: Vec<Plot> = (0..7)
+        .map(|k| {
+            let mut p = sample();
+            p.title = format!("panel {k}");
+            p
+        })
+        .collect();
+    let bytes = panels_png(&panels).unwrap();
+    let reader = png::Decoder::new(bytes.as_slice()).read_info().unwrap();
+    assert_eq!((reader.info().width, reader.info().height), (1920, 1440));
+    let svg = panels_svg(&panels).unwrap();
+    assert!(svg.contains("width=\"1920\"") && svg.contains("height=\"1440\""));
+    for k in 0..7 {
+        assert!(svg.contains(&format!("panel {k}")), "title of panel {k}");
+    }
 }

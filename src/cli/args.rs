@@ -77,6 +77,9 @@ pub(super) enum Command {
         #[arg(long)]
         monomers: Option<usize>,
     },
+    /// Print the config reference as Markdown: every key with its unit, default, allowed
+    /// values and meaning (docs/guide/src/config-reference.md is this output).
+    ConfigReference,
     /// Compare a config with measured data and name the effect that explains the gap; writes
     /// report.md, calibration.png and corrected.toml.
     Calibrate {
@@ -275,7 +278,8 @@ pub(super) enum SweepAction {
     },
     /// Collect, then analyse the finished cases as Seizinger et al. (2012) do: seeds averaged
     /// per (variant, size, speed), Eq. 13 per speed, p_m(v) and Δ(v), the compaction-front
-    /// speed, the regimes of dynamic curves; writes DIR/analysis.md, analysis.png and SVGs.
+    /// speed, the regimes of dynamic curves; writes DIR/analysis.md, analysis.png and
+    /// analysis.svg (all figures, three a row) and one SVG per figure.
     Analyze {
         /// The sweep's output directory.
         dir: PathBuf,

@@ -52,6 +52,10 @@ pub fn main() -> ExitCode {
             p_min,
         } => fit(curve, phi1, phi2, p_min),
         Command::Info { config, monomers } => info(config, monomers),
+        Command::ConfigReference => {
+            print!("{}", crate::config::reference::render_markdown());
+            Ok(())
+        }
         Command::Calibrate {
             measured,
             config,

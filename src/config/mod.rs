@@ -8,6 +8,7 @@
 //! reads and validates.
 
 mod check;
+pub mod reference;
 
 pub use check::ConfigError;
 

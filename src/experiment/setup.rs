@@ -248,12 +248,30 @@ mod tests {
         };
         // Cube of φ = 0.15 for 1000 monomers of 0.6 µm: (1000 · 0.9048 µm³ / 0.15)^(1/3).
         let cube_um = 18.20;
-        assert!(side * 1e4 > cube_um + 0.1, "side {} µm not widened", side * 1e4);
-        assert!(side * 1e4 < cube_um * 1.5, "side {} µm widened too far", side * 1e4);
+        assert!(
+            side * 1e4 > cube_um + 0.1,
+            "side {} µm not widened",
+            side * 1e4
+        );
+        assert!(
+            side * 1e4 < cube_um * 1.5,
+            "side {} µm widened too far",
+            side * 1e4
+        );
         assert_eq!(sample.positions.len(), 1000);
-        let top = sample.positions.iter().map(|p| p[2]).fold(f64::MIN, f64::max);
-        assert!(top + sample.radius <= side * (1.0 + 1e-12), "top {top} above side {side}");
-        assert!(top + sample.radius > 0.9 * side, "top {top} far below the cut at {side}");
+        let top = sample
+            .positions
+            .iter()
+            .map(|p| p[2])
+            .fold(f64::MIN, f64::max);
+        assert!(
+            top + sample.radius <= side * (1.0 + 1e-12),
+            "top {top} above side {side}"
+        );
+        assert!(
+            top + sample.radius > 0.9 * side,
+            "top {top} far below the cut at {side}"
+        );
     }
 
     /// A footprint the config sets is never widened: the error names it.
@@ -263,7 +281,10 @@ mod tests {
         let law = config.contact_law();
         let err = build_sample(&config, &law).expect_err("18.2 µm cannot hold 1000 under a cut");
         let text = err.to_string();
-        assert!(text.contains("top = \"cut\"") && text.contains("18.20 µm"), "{text}");
+        assert!(
+            text.contains("top = \"cut\"") && text.contains("18.20 µm"),
+            "{text}"
+        );
         assert!(!text.contains("widened"), "{text}");
     }
 }

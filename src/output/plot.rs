@@ -121,16 +121,36 @@ impl Plot {
     }
 }
 
-/// `panels` side by side, each at its own width and the tallest height, as PNG bytes.
+/// Panels per row of a multi-panel figure: three 640-px panels read at page width.
+pub const GRID_COLUMNS: usize = 3;
+
+/// Where each panel goes: rows of up to [`GRID_COLUMNS`] panels, each at its own width, a
+/// row as tall as its tallest panel. Returns the offsets and the figure's size.
+fn grid_layout(panels: &[Plot]) -> (Vec<(i32, i32)>, (u32, u32)) {
+    let mut offsets = Vec::with_capacity(panels.len());
+    let (mut width, mut top) = (1u32, 0u32);
+    for row in panels.chunks(GRID_COLUMNS) {
+        let mut x = 0u32;
+        for p in row {
+            offsets.push((x as i32, top as i32));
+            x += p.width;
+        }
+        width = width.max(x);
+        top += row.iter().map(|p| p.height).max().unwrap_or(0);
+    }
+    (offsets, (width, top.max(1)))
+}
+
+/// `panels` in rows of up to [`GRID_COLUMNS`] (see [`grid_layout`]), as PNG bytes.
 pub fn panels_png(panels: &[Plot]) -> Result<Vec<u8>, String> {
-    let w: u32 = panels.iter().map(|p| p.width).sum::<u32>().max(1);
-    let h = panels.iter().map(|p| p.height).max().unwrap_or(1);
+    let (offsets, (w, h)) = grid_layout(panels);
     let mut rgb = vec![255u8; 3 * w as usize * h as usize];
     let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
-    let mut x = 0;
-    for p in panels {
-        draw(p, &root.clone().shrink((x, 0), (p.width, h)), false)?;
-        x += p.width as i32;
+    for (p, &(x, y)) in panels.iter().zip(&offsets) {
+        let area = root
+            .clone()
+            .shrink((x, y), (p.width, p.height.min(h - y as u32)));
+        draw(p, &area, false)?;
     }
     root.present().map_err(err)?;
     drop(root);
@@ -144,6 +164,19 @@ pub fn panels_png(panels: &[Plot]) -> Result<Vec<u8>, String> {
     writer.write_image_data(&rgb).map_err(err)?;
     writer.finish().map_err(err)?;
     Ok(out)
+}
+
+/// The same grid as [`panels_png`], as one SVG document.
+pub fn panels_svg(panels: &[Plot]) -> Result<String, String> {
+    let (offsets, size) = grid_layout(panels);
+    let mut svg = String::new();
+    let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+    for (p, &(x, y)) in panels.iter().zip(&offsets) {
+        draw(p, &root.clone().shrink((x, y), (p.width, p.height)), true)?;
+    }
+    root.present().map_err(err)?;
+    drop(root);
+    Ok(svg)
 }
 
 fn err(e: impl std::fmt::Display) -> String {

@@ -346,7 +346,12 @@ pub fn curve_claim(
     Claim {
         claim: claim.into(),
         paper: paper.into(),
-        ours: format!("{} ({} seeds)", ours.join(", "), s.seeds.len()),
+        ours: format!(
+            "{} ({} seed{})",
+            ours.join(", "),
+            s.seeds.len(),
+            if s.seeds.len() == 1 { "" } else { "s" }
+        ),
         ratio: None,
         tolerance: format!("Δφ {} {PHI_TOL}", if too_soft { ">" } else { "≤" }),
         verdict: if agrees {

@@ -21,7 +21,7 @@ use crate::analysis::speed_laws::{
 };
 use crate::job::figure::{BLUM_SCHRAEPLER_2004_UNI, GUETTLER_2009_OMNI};
 use crate::output::atomic::write_atomic;
-use crate::output::plot::{panels_png, Plot, Series, Style, PALETTE};
+use crate::output::plot::{panels_png, panels_svg, Plot, Series, Style, PALETTE};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -230,8 +230,8 @@ fn front_of(case_dir: &Path) -> Option<f64> {
     run_front_speed(&profiles, &FrontOptions::default()).map(|f| f.front.v)
 }
 
-/// Analyses the sweep in `dir` and writes `analysis.md`, `analysis.png` and one SVG per figure
-/// there. Returns the report's path.
+/// Analyses the sweep in `dir` and writes `analysis.md`, `analysis.png` and `analysis.svg` (every
+/// figure in a grid of three a row) and one SVG per figure there. Returns the report's path.
 pub fn analyze_dir(dir: &Path) -> Result<PathBuf, String> {
     let (cases, skipped) = read_cases(dir)?;
     if cases.is_empty() {
@@ -260,9 +260,12 @@ pub fn analyze_dir(dir: &Path) -> Result<PathBuf, String> {
             panels.push(plot);
         }
     }
-    // One PNG per family row would be nicer; one strip keeps the file count small.
+    // Every figure in one grid (three panels a row), as PNG and as SVG.
     let png = panels_png(&panels)?;
     write_atomic(&dir.join("analysis.png"), &png).map_err(|e| format!("analysis.png: {e}"))?;
+    let svg = panels_svg(&panels)?;
+    write_atomic(&dir.join("analysis.svg"), svg.as_bytes())
+        .map_err(|e| format!("analysis.svg: {e}"))?;
     let report = dir.join("analysis.md");
     write_atomic(&report, markdown(&families, &skipped).as_bytes())
         .map_err(|e| format!("{}: {e}", report.display()))?;
