@@ -375,14 +375,14 @@ fn data_at_wall_speeds(omni: f64, uni: f64) -> MeasuredSet {
 #[test]
 fn data_with_one_curve_at_another_wall_speed_are_not_explained_by_a_library_effect() {
     // Only the uni curve was compressed at 2.5 m/s (two experiments, two speeds; the config
-    // and the omni curve at 0.5 m/s). With both curves at 2.5 m/s (README, "Test system and
+    // and the omni curve at 0.5 m/s). With both curves at 2.5 m/s (docs/guide/src/calibration.md, "Test system and
     // results") the data cannot tell the faster wall from stiffer rolling: that case ends
     // undetermined between rolling_stiffness x9.5 and critical_rolling_length x12.3, each
     // predicting every curve. No library effect stiffens the uni curve and leaves the
     // omni curve alone, so whatever fits jointly must fail to predict one of them, or nothing
     // lowers chi2 enough to be named.
     // One round: the decision under test is the first one (a second round, measured once, names
-    // nothing more: README, "Test system and results").
+    // nothing more: docs/guide/src/calibration.md, "Test system and results").
     let m = data_at_wall_speeds(0.5, 2.5);
     let one_round = Settings {
         max_rounds: 1,

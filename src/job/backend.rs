@@ -25,7 +25,7 @@ pub enum Backend {
     Gpu,
     /// A hardware GPU when one fits, else the CPU. A software adapter (lavapipe) is not
     /// chosen: it runs the same shaders several times slower than the CPU reference
-    /// (README, benchmark); `Gpu` uses it anyway.
+    /// (docs/guide/src/benchmarks.md); `Gpu` uses it anyway.
     Auto,
 }
 
