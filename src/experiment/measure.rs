@@ -50,6 +50,18 @@ pub fn projected_area(positions: &[DVec3], r: f64) -> f64 {
 mod tests {
     use super::*;
 
+    /// A monomer's own radius (0.6 µm in cm, where r² ≠ r / r) on a sample away from the
+    /// origin: three disjoint disks cover 3πr², and the raster must reach all of them.
+    #[test]
+    fn projected_area_of_disjoint_disks_off_the_origin_at_the_monomer_radius() {
+        let r = 6.0e-5;
+        let at = |x: f64, y: f64| DVec3::new(3.0e-3 + x * r, -2.0e-3 + y * r, 1.0e-3);
+        let disks = [at(0.0, 0.0), at(7.0, 1.0), at(2.0, 9.0)];
+        let area = projected_area(&disks, r);
+        let expected = 3.0 * std::f64::consts::PI * r * r;
+        assert!((area / expected - 1.0).abs() < 0.01, "{area} vs {expected}");
+    }
+
     #[test]
     fn projected_area_of_one_disk_and_of_overlapping_disks() {
         let r = 1.0;

@@ -160,7 +160,10 @@ pub(super) fn profiles_plot(case_dir: &Path, c: &CaseData) -> Option<Plot> {
     }
     let fronts = front_heights(&profiles, &FrontOptions::default());
     let mut plot = Plot::new(
-        format!("{} m/s, seed {}: profiles", c.wall_speed, c.seed),
+        format!(
+            "{} model, {} m/s, seed {}: profiles",
+            c.variant, c.wall_speed, c.seed
+        ),
         "height z [µm]",
         "filling factor φ",
     );
