@@ -205,7 +205,8 @@ pub fn chokshi_sticking_velocity(m: &Material, d: &Derived) -> f64 {
         / (d.e_star.cbrt() * r.powf(5.0 / 6.0) * m.density.sqrt())
 }
 
-/// Energy to roll through a relative pointer rotation of 90°, 6π²γRξ_crit (Dominik & Tielens) [erg].
+/// Energy to roll through a relative pointer rotation of 90°, 6π²γRξ_crit (Dominik &
+/// Tielens) [erg].
 pub fn rolling_energy_quarter_turn(m: &Material, d: &Derived) -> f64 {
     6.0 * PI * PI * m.surface_energy * d.pair.reduced_radius * m.xi_crit
 }

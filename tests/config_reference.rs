@@ -4,6 +4,9 @@
 //! are the checker's (a value just outside is refused naming the key, one just inside is
 //! accepted) and its choices are the names serde accepts.
 
+mod common;
+
+use common::exe::dustdem_ok;
 use dustdem::config::reference::{default_table, lookup, render_markdown, Allowed, Key, KEYS};
 use dustdem::config::Config;
 use std::collections::BTreeSet;
@@ -25,15 +28,7 @@ fn the_committed_page_is_the_rendered_reference() {
 
 #[test]
 fn the_config_reference_command_prints_the_page() {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_dustdem"))
-        .arg("config-reference")
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = dustdem_ok(["config-reference"]);
     assert_eq!(String::from_utf8(out.stdout).unwrap(), render_markdown());
 }
 

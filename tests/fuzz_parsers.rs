@@ -8,6 +8,7 @@
 
 mod common;
 
+use common::exe::dustdem_ok;
 use common::Scratch;
 use dustdem::binary::fnv1a64;
 use dustdem::config::Config;
@@ -15,7 +16,6 @@ use dustdem::job::load_checkpoint;
 use dustdem::sample::Sample;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
-use std::process::Command;
 use std::time::{Duration, Instant};
 
 struct Rng(u64);
@@ -139,16 +139,12 @@ fn sample_parser_never_panics() {
     let good = dir.join("good.sample");
     let config = dir.join("small.toml");
     std::fs::write(&config, "[sample]\nmonomers = 12\n").unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_dustdem"))
-        .args([
-            "generate",
-            config.to_str().unwrap(),
-            "--out",
-            good.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    assert!(out.status.success());
+    dustdem_ok([
+        "generate",
+        config.to_str().unwrap(),
+        "--out",
+        good.to_str().unwrap(),
+    ]);
     let seed = std::fs::read(&good).unwrap();
     let path = dir.join("mutated.sample");
     let tokens: &[&[u8]] = &[
@@ -180,21 +176,13 @@ fn checkpoint_reader_never_panics() {
     )
     .unwrap();
     let out_dir = dir.join("ckpt-run");
-    let out = Command::new(env!("CARGO_BIN_EXE_dustdem"))
-        .args([
-            "run",
-            config.to_str().unwrap(),
-            "--out",
-            out_dir.to_str().unwrap(),
-            "--quiet",
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    dustdem_ok([
+        "run",
+        config.to_str().unwrap(),
+        "--out",
+        out_dir.to_str().unwrap(),
+        "--quiet",
+    ]);
     let seed = std::fs::read(out_dir.join("checkpoint.bin")).unwrap();
     let path = dir.join("mutated.bin");
     let tokens: &[&[u8]] = &[

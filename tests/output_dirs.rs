@@ -345,9 +345,9 @@ fn a_checkpoint_of_another_run_is_refused_before_any_file_changes() {
     );
 }
 
-/// Setups that fail late (a sample footprint only the wall builder refuses, sample files that
-/// are missing or unreadable) create no directory, leave an existing one as it was, and with --force keep
-/// the earlier run's results.
+/// Setups that fail late (a sample footprint only the wall builder refuses, sample files that are
+/// missing or unreadable) create no directory, leave an existing one as it was, and with --force
+/// keep the earlier run's results.
 #[test]
 fn a_failed_setup_leaves_nothing_behind() {
     let s = Scratch::new("setup");

@@ -6,24 +6,17 @@
 
 mod common;
 
+use common::exe::dustdem_ok;
 use common::Scratch;
 use std::collections::BTreeMap;
+use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 fn reproduce(out: &Path, extra: &[&str]) -> Output {
-    let output = Command::new(env!("CARGO_BIN_EXE_dustdem"))
-        .args(["reproduce", "--tier", "smoke", "--jobs", "2", "--out"])
-        .arg(out)
-        .args(extra)
-        .output()
-        .expect("dustdem runs");
-    assert!(
-        output.status.success(),
-        "reproduce {extra:?} failed: {}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    output
+    let smoke = ["reproduce", "--tier", "smoke", "--jobs", "2", "--out"].map(OsStr::new);
+    let extra = extra.iter().map(OsStr::new);
+    dustdem_ok(smoke.into_iter().chain([out.as_os_str()]).chain(extra))
 }
 
 /// Every file under `dir` with its bytes, by path relative to `dir`.
@@ -130,16 +123,8 @@ fn the_smoke_tier_stores_its_cases_and_rebuilds_the_report_from_the_store_alone(
 fn slurm_mode_writes_one_job_array_per_study_and_runs_nothing() {
     let scratch = Scratch::new("reproduce-slurm");
     let out = scratch.path().join("full");
-    let output = Command::new(env!("CARGO_BIN_EXE_dustdem"))
-        .args(["reproduce", "--tier", "paper", "--slurm", "--out"])
-        .arg(&out)
-        .output()
-        .expect("dustdem runs");
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    let args = ["reproduce", "--tier", "paper", "--slurm", "--out"].map(OsStr::new);
+    dustdem_ok(args.into_iter().chain([out.as_os_str()]));
     for (study, cases, sizes) in [
         ("quasi_static", 2 * 6 * 2 * 3, "[2000, 4000, 11000]"),
         ("dynamic", 8 * 6 * 2, "[40000]"),
@@ -173,16 +158,8 @@ fn the_committed_tiers_rebuild_byte_for_byte_from_their_stores() {
         let scratch = Scratch::new(&format!("reproduce-committed-{tier}"));
         let copy = scratch.join(tier);
         copy_tree(&committed, &copy);
-        let out = Command::new(env!("CARGO_BIN_EXE_dustdem"))
-            .args(["reproduce", "--tier", tier, "--report-only", "--out"])
-            .arg(&copy)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        let args = ["reproduce", "--tier", tier, "--report-only", "--out"].map(OsStr::new);
+        dustdem_ok(args.into_iter().chain([copy.as_os_str()]));
         let (before, after) = (tree(&committed), tree(&copy));
         assert_eq!(
             before.keys().collect::<Vec<_>>(),

@@ -1,8 +1,10 @@
-//! The exceptions the bindings raise, and the conversions of the library's errors into them.
+//! The exceptions the bindings raise, and the conversions of the library's errors into them:
+//! every binding converts through here, so one failure raises one kind everywhere.
 
 use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
+use std::fmt::Display;
 
 create_exception!(
     _dustdem,
@@ -20,7 +22,7 @@ create_exception!(
 );
 
 /// A [`ConfigError`] carrying the same message as the command line, with its parts attached.
-pub fn config_error(py: Python<'_>, e: &dustdem::config::ConfigError) -> PyErr {
+fn config_error(py: Python<'_>, e: &dustdem::config::ConfigError) -> PyErr {
     let err = ConfigError::new_err(e.to_string());
     let value = err.value(py);
     for (name, text) in [
@@ -35,7 +37,42 @@ pub fn config_error(py: Python<'_>, e: &dustdem::config::ConfigError) -> PyErr {
     err
 }
 
-/// A [`RunError`] with `message`.
-pub fn run_error(message: impl Into<String>) -> PyErr {
-    RunError::new_err(message.into())
+/// The library's errors (messages, or types that print one) as Python exceptions.
+pub trait OrRaise<T> {
+    /// A [`RunError`]: a run, a file or a tool that failed.
+    fn or_run_error(self) -> PyResult<T>;
+    /// A `ValueError`: an argument the library refused.
+    fn or_value_error(self) -> PyResult<T>;
+}
+
+impl<T, E: Display> OrRaise<T> for Result<T, E> {
+    fn or_run_error(self) -> PyResult<T> {
+        self.map_err(|e| RunError::new_err(e.to_string()))
+    }
+
+    fn or_value_error(self) -> PyResult<T> {
+        self.map_err(|e| PyValueError::new_err(e.to_string()))
+    }
+}
+
+/// A config problem as a [`ConfigError`] with its parts attached (they need the GIL).
+pub trait OrConfigError<T> {
+    fn or_config_error(self, py: Python<'_>) -> PyResult<T>;
+}
+
+impl<T> OrConfigError<T> for Result<T, dustdem::config::ConfigError> {
+    fn or_config_error(self, py: Python<'_>) -> PyResult<T> {
+        self.map_err(|e| config_error(py, &e))
+    }
+}
+
+/// A count argument (`threads`, `jobs`) must lie in 1..=1024; else a `ValueError` naming it.
+pub fn check_count(name: &str, n: usize) -> PyResult<()> {
+    if (1..=1024).contains(&n) {
+        Ok(())
+    } else {
+        Err(PyValueError::new_err(format!(
+            "{name} {n}: out of range; allowed 1 to 1024"
+        )))
+    }
 }

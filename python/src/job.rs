@@ -6,7 +6,7 @@
 //! and stops, as the command line does on SIGINT; the exception is then raised in Python with
 //! the checkpoint's path as its `checkpoint` attribute.
 
-use crate::errors::{config_error, run_error};
+use crate::errors::{check_count, OrConfigError, OrRaise};
 use dustdem::config::Config;
 use dustdem::experiment::compression::RunError;
 use dustdem::job::{
@@ -27,7 +27,7 @@ fn load(py: Python<'_>, text: Option<&str>, path: Option<&str>, name: &str) -> P
         (None, Some(path)) => Config::load(Path::new(path)),
         _ => return Err(PyValueError::new_err("give exactly one of text and path")),
     };
-    loaded.map_err(|e| config_error(py, &e))
+    loaded.or_config_error(py)
 }
 
 /// Validates a config (TOML `text` or the file `path`); raises ConfigError on a problem and
@@ -115,7 +115,7 @@ fn row_event(py: Python<'_>, p: &Progress) -> PyResult<PyObject> {
 }
 
 fn parse_backend(backend: &str) -> PyResult<Backend> {
-    backend.parse().map_err(PyValueError::new_err)
+    backend.parse::<Backend>().or_value_error()
 }
 
 /// A thread pool of `threads` for the CPU engine (none: rayon's global pool).
@@ -123,16 +123,13 @@ pub fn thread_pool(threads: Option<usize>) -> PyResult<Option<rayon::ThreadPool>
     let Some(t) = threads else {
         return Ok(None);
     };
-    if !(1..=1024).contains(&t) {
-        return Err(PyValueError::new_err(format!(
-            "threads {t}: out of range; allowed 1 to 1024"
-        )));
-    }
+    check_count("threads", t)?;
     rayon::ThreadPoolBuilder::new()
         .num_threads(t)
         .build()
         .map(Some)
-        .map_err(|e| PyValueError::new_err(format!("threads {t}: {e}")))
+        .map_err(|e| format!("threads {t}: {e}"))
+        .or_value_error()
 }
 
 /// Runs `job` without the GIL, with the progress and stop hooks, and converts its outcome.
@@ -178,7 +175,7 @@ fn drive(
         }
         return Err(err);
     }
-    let summary = result.map_err(|e| run_error(e.to_string()))?;
+    let summary = result.or_run_error()?;
     summary_dict(py, &summary)
 }
 

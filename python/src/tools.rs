@@ -1,7 +1,7 @@
 //! The library's tools besides a single run: CSV tables, RBD samples, the Eq. 13 fit, sweeps
 //! and calibrations.
 
-use crate::errors::{config_error, run_error};
+use crate::errors::{check_count, OrConfigError, OrRaise};
 use crate::job::thread_pool;
 use dustdem::analysis::fit::{fit_eq13 as fit, Eq13, FitOptions};
 use dustdem::calibrate::{run_calibration, run_plan, RunCache, Settings};
@@ -24,7 +24,7 @@ use std::sync::Arc;
 /// (row after row), for numpy's `frombuffer`.
 #[pyfunction]
 pub fn read_csv(py: Python<'_>, path: PathBuf) -> PyResult<(Vec<String>, Py<PyBytes>, usize)> {
-    let (header, rows) = dustdem::output::csv::read_csv(&path).map_err(run_error)?;
+    let (header, rows) = dustdem::output::csv::read_csv(&path).or_run_error()?;
     let flat: Vec<u8> = rows
         .iter()
         .flat_map(|r| r.iter().flat_map(|v| v.to_ne_bytes()))
@@ -103,12 +103,12 @@ pub fn rbd_sample(
     size_um: f64,
     config: Option<&str>,
 ) -> PyResult<PyObject> {
-    let config = sample_config(config, monomers, seed, footprint, top, size_um)
-        .map_err(|e| config_error(py, &e))?;
+    let config =
+        sample_config(config, monomers, seed, footprint, top, size_um).or_config_error(py)?;
     let law = config.contact_law();
     let sample = py
         .allow_threads(|| build_sample(&config, &law))
-        .map_err(|e| run_error(e.to_string()))?;
+        .or_run_error()?;
     let bytes: Vec<u8> = sample
         .positions
         .iter()
@@ -162,8 +162,7 @@ pub fn fit_eq13(
         initial: None,
         max_iterations,
     };
-    let r = fit(&p, &phi, sigma.as_deref(), &options)
-        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let r = fit(&p, &phi, sigma.as_deref(), &options).or_value_error()?;
     let d = params_dict(py, &r.params)?;
     d.set_item("std_err", params_dict(py, &r.std_err)?)?;
     d.set_item("std_err_log10_p_m", r.std_err_log10_pm)?;
@@ -238,14 +237,10 @@ pub fn sweep(
     backend: &str,
     progress: Option<PyObject>,
 ) -> PyResult<PyObject> {
-    let spec = Sweep::load(&path).map_err(|e| config_error(py, &e))?;
+    let spec = Sweep::load(&path).or_config_error(py)?;
     let out_dir = std::path::absolute(spec.out_dir(out.as_deref()))?;
-    let cases = spec.cases(&out_dir).map_err(|e| config_error(py, &e))?;
-    if !(1..=1024).contains(&jobs) {
-        return Err(PyValueError::new_err(format!(
-            "jobs {jobs}: out of range; allowed 1 to 1024"
-        )));
-    }
+    let cases = spec.cases(&out_dir).or_config_error(py)?;
+    check_count("jobs", jobs)?;
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let threads = threads.unwrap_or((cores / jobs).max(1));
     let settings = RunSettings {
@@ -254,8 +249,8 @@ pub fn sweep(
         backend: backend.to_string(),
         exe,
     };
-    let _lock = lock_dir(&out_dir).map_err(run_error)?;
-    write_case_list(&spec, &out_dir, &cases).map_err(run_error)?;
+    let _lock = lock_dir(&out_dir).or_run_error()?;
+    write_case_list(&spec, &out_dir, &cases).or_run_error()?;
     let flag = Arc::new(AtomicBool::new(false));
     let ids = stop_on_signals(&flag);
     let error = std::sync::Mutex::new(None);
@@ -266,8 +261,8 @@ pub fn sweep(
     for id in ids {
         signal_hook::low_level::unregister(id);
     }
-    let outcome = outcome.map_err(run_error)?;
-    let collected = collect(&out_dir).map_err(run_error)?;
+    let outcome = outcome.or_run_error()?;
+    let collected = collect(&out_dir).or_run_error()?;
     py.check_signals()?;
     if let Some(e) = error.lock().unwrap().take() {
         return Err(e);
@@ -318,7 +313,7 @@ pub fn calibrate(
         thread_pool(Some(t))?;
         settings.threads = t;
     }
-    let _lock = lock_dir(&out).map_err(run_error)?;
+    let _lock = lock_dir(&out).or_run_error()?;
     let cache = RunCache::persistent(&cache.unwrap_or_else(|| out.join("run_cache")));
     let error = std::sync::Mutex::new(None);
     let result = py.allow_threads(|| {
@@ -329,7 +324,7 @@ pub fn calibrate(
     if let Some(e) = error.lock().unwrap().take() {
         return Err(e);
     }
-    let (lines, files) = result.map_err(run_error)?;
+    let (lines, files) = result.or_run_error()?;
     Ok((lines, files.iter().map(|f| display(f)).collect()))
 }
 

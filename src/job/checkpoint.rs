@@ -32,9 +32,9 @@ pub struct LoadedCheckpoint {
 
 /// Reads and checks a checkpoint file completely (header, checksum, config, state).
 ///
-/// Body (format version 3, whose state carries the monomers' sample ids): run id, effective config, output directory relative to the
-/// checkpoint's directory (each as u64 length + UTF-8), curve.csv length and hash,
-/// profiles.csv length and hash (u64 each), then the run's state.
+/// Body (format version 3, whose state carries the monomers' sample ids): run id, effective config,
+/// output directory relative to the checkpoint's directory (each as u64 length + UTF-8), curve.csv
+/// length and hash, profiles.csv length and hash (u64 each), then the run's state.
 pub fn load_checkpoint(checkpoint: &Path) -> Result<LoadedCheckpoint, RunError> {
     let body = read_checkpoint(checkpoint).map_err(|e| RunError::Output(e.to_string()))?;
     let bad =

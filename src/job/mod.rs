@@ -157,11 +157,11 @@ fn start<E: Engine>(
     drive(config, &dir.dir, &dir.run_id, run, curve, profiles, options)
 }
 
-/// Continues the run a checkpoint belongs to, in the directory that holds the checkpoint
-/// (locked for the whole resume): once that directory's run id and the curve and profile files
-/// are checked to be the ones the checkpoint recorded (before any file is changed), those files
-/// are cut back to what they held at the checkpoint, then appended to. The run continues on the backend the
-/// options choose; on the backend that wrote the checkpoint it continues bit for bit.
+/// Continues the run a checkpoint belongs to, in the directory that holds the checkpoint (locked
+/// for the whole resume): once that directory's run id and the curve and profile files are checked
+/// to be the ones the checkpoint recorded (before any file is changed), those files are cut back to
+/// what they held at the checkpoint, then appended to. The run continues on the backend the options
+/// choose; on the backend that wrote the checkpoint it continues bit for bit.
 pub fn resume_job(checkpoint: &Path, options: &mut JobOptions) -> Result<JobSummary, RunError> {
     let loaded = load_checkpoint(checkpoint)?;
     let _lock = lock_dir(&loaded.out_dir).map_err(RunError::Output)?;

@@ -35,7 +35,8 @@ pub struct ModelOptions {
 }
 
 impl Default for ModelOptions {
-    /// Seizinger et al.'s (2012) unmodified model: m_r = m_s = m_t = 1, κ = 1e-6 g/s, k_t as printed.
+    /// Seizinger et al.'s (2012) unmodified model: m_r = m_s = m_t = 1, κ = 1e-6 g/s, k_t as
+    /// printed.
     fn default() -> Self {
         ModelOptions {
             rolling_modifier: 1.0,

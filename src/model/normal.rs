@@ -1,5 +1,5 @@
-//! JKR normal interaction (Eqs. 1–3 of Seizinger et al. (2012)), in the dimensionless contact radius
-//! x = a/a₀ and overlap d = δ/δ₀.
+//! JKR normal interaction (Eqs. 1–3 of Seizinger et al. (2012)), in the dimensionless contact
+//! radius x = a/a₀ and overlap d = δ/δ₀.
 
 /// Smallest contact radius on the stable branch, x_min = 6^(−2/3): δ(x) has its minimum there.
 pub const X_MIN: f64 = 0.302_853_432_138_69;

@@ -4,9 +4,9 @@ use glam::DVec3;
 
 /// Turns `n` by the rotation vector `w` (axis w/|w|, angle |w|) and renormalises.
 ///
-/// sin and cos come from their Taylor series (to θ¹¹ and θ¹⁰), exact to rounding for the angles
-/// a stable step produces (|w| ≲ 0.3; a stable step turns by ≲ 0.01), because f64 transcendental builtins are unreliable on some
-/// GPU drivers; the GPU twin uses the same polynomial.
+/// sin and cos come from their Taylor series (to θ¹¹ and θ¹⁰), exact to rounding for the angles a
+/// stable step produces (|w| ≲ 0.3; a stable step turns by ≲ 0.01), because f64 transcendental
+/// builtins are unreliable on some GPU drivers; the GPU twin uses the same polynomial.
 pub fn rotate_pointer(n: DVec3, w: DVec3) -> DVec3 {
     let t2 = w.length_squared();
     if t2 == 0.0 {

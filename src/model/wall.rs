@@ -8,13 +8,14 @@ pub fn wall_overlap(x: DVec3, wall_point: DVec3, normal: DVec3, r: f64) -> f64 {
     r - (x - wall_point).dot(normal)
 }
 
-/// Rolling displacement ξ = r(n₁ + n_w); the torque is [`super::rolling::rolling_torque`] with R = r.
+/// Rolling displacement ξ = r(n₁ + n_w); the torque is
+/// [`super::rolling::rolling_torque`] with R = r.
 pub fn wall_rolling_displacement(n1: DVec3, normal: DVec3, r: f64) -> DVec3 {
     (n1 + normal) * r
 }
 
-/// Inelastic wall rolling: n_w stays fixed, n₁ is turned back towards −n_w in the plane of n₁
-/// and n_w until |ξ| = ξ_crit exactly (|n₁ + n_w| = 2 sin(θ/2) for the angle θ between n₁ and −n_w).
+/// Inelastic wall rolling: n_w stays fixed, n₁ is turned back towards −n_w in the plane of n₁ and
+/// n_w until |ξ| = ξ_crit exactly (|n₁ + n_w| = 2 sin(θ/2) for the angle θ between n₁ and −n_w).
 ///
 /// The anchor moves with the contact centre, by r Δn₁: the contact area relocates on the monomer
 /// and along the wall together, which leaves ζ unchanged, as Δn₁ = Δn₂ leaves ζ unchanged for a

@@ -4,8 +4,8 @@
 //! a time; or exported as a Slurm job array; and collected into one table.
 //!
 //! Here: the case directories (what state a case is in, its status file, its list) and the
-//! runner; `spec` reads the sweep file, `slurm` writes the job-array script, `collect` the
-//! table.
+//! runner; `spec` reads the sweep file (`axes` checks its axes and variants), `cases` expands
+//! it into cases, `slurm` writes the job-array script, `collect` the table.
 //!
 //! A case directory is locked (`output::lock`) from the moment its attempt is prepared until its
 //! end is recorded, and the child runs under that lock; the sweep's own directory is locked by a
@@ -19,6 +19,8 @@
 
 pub mod analyze;
 mod attempt;
+mod axes;
+mod cases;
 pub mod collect;
 pub mod slurm;
 pub mod slurm_settings;

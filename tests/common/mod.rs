@@ -1,7 +1,8 @@
-//! Shared builders for the physics tests, and scratch directories for the tests that write
-//! files.
+//! Shared builders for the physics tests, scratch directories for the tests that write files,
+//! and (`exe`) runs of the built binary.
 #![allow(dead_code)]
 
+pub mod exe;
 pub mod printed;
 pub mod slurm;
 

@@ -3,9 +3,9 @@
 //!
 //! The nearest model LAMMPS (29 Sep 2021) has: `jkr` normal force (`dmt` at the walls, see
 //! [`Normal`]), `damping velocity` (or `viscoelastic`), `tangential mindlin`, `rolling sds`,
-//! `twisting marshall`. Where the two
-//! models differ in form, the coefficients are chosen so that both agree at the equilibrium
-//! contact (a = a₀, elastic force zero); docs/guide/src/benchmarks.md ("LAMMPS beside dustdem") lists what stays different.
+//! `twisting marshall`. Where the two models differ in form, the coefficients are chosen so that
+//! both agree at the equilibrium contact (a = a₀, elastic force zero); docs/guide/src/benchmarks.md
+//! ("LAMMPS beside dustdem") lists what stays different.
 
 use crate::material::{ContactConstants, Material};
 use crate::model::{ContactLaw, Damping, WallFactors};
