@@ -40,13 +40,29 @@ fn cache() -> &'static RunCache {
 }
 
 fn settings() -> Settings {
-    Settings {
+    search(Settings {
         seeds: vec![1, 2, 3],
         threads: 2,
         max_rounds: 2,
         candidates: 2,
         refinements: 3,
         ..Settings::default()
+    })
+}
+
+/// The search every case uses: the default (screen on one seed with common random numbers,
+/// effects that cannot come near the best dropped), or with `DUSTDEM_FULL_SEARCH=1` the
+/// search before those two savings (every seed, every effect widened), to measure what they
+/// save (the table in docs/guide/src/calibration.md).
+fn search(s: Settings) -> Settings {
+    if std::env::var_os("DUSTDEM_FULL_SEARCH").is_some() {
+        Settings {
+            screen_seeds: 0,
+            prune: false,
+            ..s
+        }
+    } else {
+        s
     }
 }
 
@@ -87,10 +103,14 @@ fn run_calibration(name: &str, measured: &MeasuredSet, settings: &Settings) -> C
     let before = cal.baseline_gap();
     let after = cal.final_gap();
     eprintln!(
-        "{name}: {:.0} s, {} runs requested; chi2 {:.2} -> {:.2} (threshold {:.2}), \
-         normalised shrink {:.0}%; RMS gap shrink of the curves beyond noise: {}",
+        "{name}: {:.0} s, {} runs requested ({} compressions, {} sticking, {:.0} CPU-s); \
+         chi2 {:.2} -> {:.2} (threshold {:.2}), normalised shrink {:.0}%; RMS gap shrink of \
+         the curves beyond noise: {}",
         start.elapsed().as_secs_f64(),
         cal.runs,
+        cal.cost.compressions,
+        cal.cost.sticking,
+        cal.cost.cpu_seconds,
         before.chi2,
         after.chi2,
         after.threshold,
@@ -375,8 +395,8 @@ fn data_at_wall_speeds(omni: f64, uni: f64) -> MeasuredSet {
 #[test]
 fn data_with_one_curve_at_another_wall_speed_are_not_explained_by_a_library_effect() {
     // Only the uni curve was compressed at 2.5 m/s (two experiments, two speeds; the config
-    // and the omni curve at 0.5 m/s). With both curves at 2.5 m/s (docs/guide/src/calibration.md, "Test system and
-    // results") the data cannot tell the faster wall from stiffer rolling: that case ends
+    // and the omni curve at 0.5 m/s). With both curves at 2.5 m/s
+    // (docs/guide/src/calibration.md, "Test system and results") the data cannot tell the faster wall from stiffer rolling: that case ends
     // undetermined between rolling_stiffness x9.5 and critical_rolling_length x12.3, each
     // predicting every curve. No library effect stiffens the uni curve and leaves the
     // omni curve alone, so whatever fits jointly must fail to predict one of them, or nothing
@@ -406,8 +426,8 @@ fn two_hidden_effects_of_different_kinds_are_named_in_two_rounds() {
     // the damping (its failed prediction of the omni curve shown: the side walls are still
     // missing), round 2 the side walls. The damping comes back within 25%; the side walls,
     // which only the omni curve's three 120-monomer samples carry, within 25% or inside the
-    // fit's own interval (measured: x398 with the interval 155-741, as in the single-effect
-    // case where x300 came back as x305 [123, 794]).
+    // fit's own interval (measured: x442 with the interval 122-596, as in the single-effect
+    // case where x300 came back as x269 [124, 417]).
     let hidden = [
         (Effect::NormalDamping, 2.0),
         (Effect::SideWallStrength, 300.0),

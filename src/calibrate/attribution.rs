@@ -5,192 +5,18 @@
 //! prediction is scanned on a fine grid, and the minimum is taken. The workflow adds a
 //! simulated point at the interpolated minimum until it stops moving.
 
+pub use super::detection::{detection_limit, DetectionLimit};
 use super::effects::Effect;
-use super::gap::{chi2_quantile_95, gap, shift_chi2, Gap, Prediction};
+use super::gap::{chi2_quantile_95, gap, Gap};
+use super::grid::minimum_of;
+pub use super::grid::{Grid, FALLING, MAX_GRID};
 use super::measured::MeasuredSet;
 pub use super::outside::SingleObservable;
 use super::outside::{outside_library, single_observable};
 
-/// χ² must fall by more than this towards a range end for the search to widen there.
-pub const FALLING: f64 = 0.1;
-/// Points of the fine scan between the grid's ends.
-const SCAN_POINTS: usize = 801;
 /// Two effects whose best χ² differ by less than this explain the data equally well (a
 /// likelihood ratio above e⁻¹).
 pub const TIE_DELTA_CHI2: f64 = 2.0;
-/// The grid point count beyond which no more refinements are made per effect (the screen's
-/// three, up to four widenings and three refinements).
-pub const MAX_GRID: usize = 10;
-
-/// Simulated predictions of one effect at several factors.
-#[derive(Clone, Debug)]
-pub struct Grid {
-    pub effect: Effect,
-    /// (u = ln factor, predictions for every measured curve), sorted by u.
-    pub points: Vec<(f64, Vec<Prediction>)>,
-}
-
-impl Grid {
-    pub fn new(effect: Effect) -> Grid {
-        Grid {
-            effect,
-            points: Vec::new(),
-        }
-    }
-
-    pub fn insert(&mut self, u: f64, predictions: Vec<Prediction>) {
-        let at = self.points.partition_point(|(x, _)| *x < u);
-        if self.points.get(at).is_some_and(|(x, _)| *x == u) {
-            self.points[at].1 = predictions;
-        } else {
-            self.points.insert(at, (u, predictions));
-        }
-    }
-
-    /// Predictions at u, linear between the neighbouring grid points (clamped at the ends).
-    pub fn interpolate(&self, u: f64) -> Vec<Prediction> {
-        let p = &self.points;
-        let k = p
-            .windows(2)
-            .position(|w| u <= w[1].0)
-            .unwrap_or(p.len().saturating_sub(2));
-        if p.len() == 1 {
-            return p[0].1.clone();
-        }
-        let (u0, u1) = (p[k].0, p[k + 1].0);
-        let t = ((u - u0) / (u1 - u0)).clamp(0.0, 1.0);
-        p[k].1
-            .iter()
-            .zip(&p[k + 1].1)
-            .map(|(a, b)| Prediction::blend(a, b, t))
-            .collect()
-    }
-
-    /// The simulated ends (u_lo, u_hi).
-    pub fn ends(&self) -> (f64, f64) {
-        (self.points[0].0, self.points[self.points.len() - 1].0)
-    }
-
-    /// χ² along the fine scan: (u, χ²).
-    pub fn scan(&self, m: &MeasuredSet) -> Vec<(f64, f64)> {
-        self.scan_curves(m, &|_| true)
-    }
-
-    /// χ² summed over the curves `keep` accepts (by index), along the fine scan.
-    pub fn scan_curves(&self, m: &MeasuredSet, keep: &dyn Fn(usize) -> bool) -> Vec<(f64, f64)> {
-        let (lo, hi) = self.ends();
-        (0..SCAN_POINTS)
-            .map(|k| {
-                let u = lo + (hi - lo) * k as f64 / (SCAN_POINTS - 1) as f64;
-                let g = gap(m, &self.interpolate(u));
-                let chi2 = g
-                    .curves
-                    .iter()
-                    .enumerate()
-                    .filter(|(j, _)| keep(*j))
-                    .map(|(_, c)| c.chi2)
-                    .sum();
-                (u, chi2)
-            })
-            .collect()
-    }
-
-    /// The interpolated minimum (u*, χ²*) and the interval where χ² ≤ χ²* + 1.
-    pub fn minimum(&self, m: &MeasuredSet) -> (f64, f64, (f64, f64)) {
-        minimum_of(&self.scan(m))
-    }
-
-    /// Whether the interpolated minimum sits on a simulated end: Some(true) on the upper,
-    /// Some(false) on the lower end.
-    pub fn minimum_at_end(&self, m: &MeasuredSet) -> Option<bool> {
-        let (u, _, _) = self.minimum(m);
-        let (lo, hi) = self.ends();
-        if self.points.len() < 2 {
-            None
-        } else if (u - hi).abs() < 1e-9 {
-            Some(true)
-        } else if (u - lo).abs() < 1e-9 {
-            Some(false)
-        } else {
-            None
-        }
-    }
-
-    /// The minimum sits on an end and χ² there is below the neighbouring simulated factor's
-    /// by more than [`FALLING`]: going further that way may help. The margin is small on
-    /// purpose: an effect can be weak at the screen's end and strong beyond it (viscous
-    /// damping ×4 of the paper's κ lowers the Poppe χ² by 0.5, ×500 closes it).
-    pub fn end_still_falling(&self, m: &MeasuredSet) -> bool {
-        let Some(upper) = self.minimum_at_end(m) else {
-            return false;
-        };
-        let n = self.points.len();
-        let (end, inner) = if upper {
-            (&self.points[n - 1].1, &self.points[n - 2].1)
-        } else {
-            (&self.points[0].1, &self.points[1].1)
-        };
-        gap(m, end).chi2 < gap(m, inner).chi2 - FALLING
-    }
-
-    /// Where to widen the search: the next end (in u) beyond the one the minimum sits on,
-    /// twice as far from the config's value, up to the effect's limits; None when the minimum
-    /// is interior or the end already is the limit.
-    pub fn widen_point(&self, m: &MeasuredSet) -> Option<f64> {
-        if self.points.len() >= MAX_GRID {
-            return None;
-        }
-        let upper = self.minimum_at_end(m)?;
-        let (lo, hi) = self.ends();
-        let (limit_lo, limit_hi, _) = self.effect.limits();
-        let (end, limit) = if upper {
-            (hi, limit_hi.ln())
-        } else {
-            (lo, limit_lo.ln())
-        };
-        if (end - limit).abs() < 1e-9 {
-            return None;
-        }
-        let next = 2.0 * end;
-        Some(if upper {
-            next.min(limit)
-        } else {
-            next.max(limit)
-        })
-    }
-
-    /// Where to simulate next to pin the minimum down, or None when the interpolated minimum
-    /// lies within `tolerance` (in u) of a simulated point.
-    pub fn next_point(&self, m: &MeasuredSet, tolerance: f64) -> Option<f64> {
-        if self.points.len() >= MAX_GRID {
-            return None;
-        }
-        let (u, _, _) = self.minimum(m);
-        let nearest = self
-            .points
-            .iter()
-            .map(|(x, _)| (x - u).abs())
-            .fold(f64::INFINITY, f64::min);
-        (nearest > tolerance).then_some(u)
-    }
-}
-
-/// The minimum of a scan (u*, χ²*) and the interval where χ² ≤ χ²* + 1.
-fn minimum_of(scan: &[(f64, f64)]) -> (f64, f64, (f64, f64)) {
-    let best = scan
-        .iter()
-        .copied()
-        .min_by(|a, b| a.1.total_cmp(&b.1))
-        .expect("non-empty scan");
-    let inside: Vec<f64> = scan
-        .iter()
-        .filter(|(_, c)| *c <= best.1 + 1.0)
-        .map(|(u, _)| *u)
-        .collect();
-    let lo = inside.iter().copied().fold(f64::INFINITY, f64::min);
-    let hi = inside.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    (best.0, best.1, (lo, hi))
-}
 
 /// A fit that landed on the end of the searched range: the data ask for at least (upper) or
 /// at most this factor.
@@ -325,83 +151,6 @@ impl EffectFit {
             .map(|h| h.curve.clone())
             .collect()
     }
-}
-
-/// The smallest factor, each way, that data made with it would show beyond noise against the
-/// config's model at 95%: the χ² of the model against such data, the noise at its expected
-/// value of one per curve, passes the 95% quantile of χ² with one degree per curve, i.e.
-/// n + λ(f) > χ²₉₅(n) with λ the noise-free shift ([`shift_chi2`]). Found on the screened
-/// grid (linear in ln factor); None where the searched range does not reach it.
-#[derive(Clone, Debug, PartialEq)]
-pub struct DetectionLimit {
-    pub effect: Effect,
-    /// Below 1 and above 1, with the data as they are.
-    pub lower: Option<f64>,
-    pub upper: Option<f64>,
-    /// The searched range the limits were looked for in.
-    pub searched: (f64, f64),
-    /// The same with four times the simulated samples per curve (the simulation's noise
-    /// variance / 4; four times the monomers per sample does about as much).
-    pub lower_4x_samples: Option<f64>,
-    pub upper_4x_samples: Option<f64>,
-    /// The same with the measurement's uncertainty halved.
-    pub lower_half_sigma: Option<f64>,
-    pub upper_half_sigma: Option<f64>,
-    /// Share of the noise variance (mean over compared points) from the simulated samples.
-    pub simulated_share: f64,
-}
-
-impl DetectionLimit {
-    /// Whether a factor `f` lies within the limits (would pass as noise).
-    pub fn hides(&self, f: f64) -> bool {
-        if f >= 1.0 {
-            self.upper.is_none_or(|u| f < u)
-        } else {
-            self.lower.is_none_or(|l| f > l)
-        }
-    }
-}
-
-/// Points per side of the detection-limit scan.
-const LIMIT_SCAN: usize = 400;
-
-/// The detection limits of `grid`'s effect; `grid` must hold the config's own predictions at
-/// u = 0 (the effects whose factor 1 changes the model have none).
-pub fn detection_limit(m: &MeasuredSet, grid: &Grid) -> Option<DetectionLimit> {
-    if !grid.effect.identity_at_one() {
-        return None;
-    }
-    let reference = &grid.points.iter().find(|(u, _)| *u == 0.0)?.1;
-    let n = reference.len();
-    let threshold = chi2_quantile_95(n) - n as f64;
-    let (lo, hi) = grid.ends();
-    let first = |end: f64, scale: (f64, f64)| -> Option<f64> {
-        (1..=LIMIT_SCAN).find_map(|k| {
-            let u = end * k as f64 / LIMIT_SCAN as f64;
-            let shift: f64 = shift_chi2(m, reference, &grid.interpolate(u), scale)
-                .iter()
-                .sum();
-            (shift > threshold).then(|| u.exp())
-        })
-    };
-    let noise = super::gap::noise(m, reference);
-    let points: Vec<_> = noise.iter().flatten().collect();
-    let simulated_share = points
-        .iter()
-        .map(|p| p.simulated / (p.simulated + p.measured))
-        .sum::<f64>()
-        / points.len().max(1) as f64;
-    Some(DetectionLimit {
-        effect: grid.effect,
-        lower: first(lo, (1.0, 1.0)),
-        upper: first(hi, (1.0, 1.0)),
-        searched: (lo.exp(), hi.exp()),
-        lower_4x_samples: first(lo, (0.25, 1.0)),
-        upper_4x_samples: first(hi, (0.25, 1.0)),
-        lower_half_sigma: first(lo, (1.0, 0.25)),
-        upper_half_sigma: first(hi, (1.0, 0.25)),
-        simulated_share,
-    })
 }
 
 /// Which effect explains the gap.
@@ -565,6 +314,8 @@ fn decide(baseline: &Gap, fits: &[EffectFit]) -> Decision {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::calibrate::detection::LIMIT_SCAN;
+    use crate::calibrate::gap::Prediction;
 
     fn data() -> MeasuredSet {
         MeasuredSet::parse("[[sticking]]\nvelocity_m_s = 2.0\nsigma_m_s = 0.05\n", "t").unwrap()

@@ -3,17 +3,24 @@
 //!
 //! `measured` reads the data, `effects` maps named one-parameter effects onto the config,
 //! `simulate` makes (and caches) the runs, `gap` measures the difference and its noise,
-//! `attribution` fits one effect at a time and decides, `workflow` runs the add-and-rerun
-//! loop, `synth` writes measured-like data from the simulator, and `report` writes the
-//! Markdown report and the corrected config, `figures` the plots (drawn through `output::plot`).
+//! `attribution` fits one effect at a time and decides, `predictor` turns configs into
+//! predictions (a screen on common random numbers) and counts their cost, `search` screens,
+//! prunes, widens and refines within a round, `workflow` runs the add-and-rerun loop, `synth`
+//! writes measured-like data from the simulator, `report` writes the Markdown report and the
+//! corrected config, and `figures` the plots (drawn through `output::plot`).
 
 pub mod attribution;
+pub mod detection;
 pub mod effects;
 pub mod figures;
 pub mod gap;
+pub mod grid;
 pub mod measured;
 pub mod outside;
+pub mod predictor;
 pub mod report;
+mod report_tables;
+pub mod search;
 pub mod simulate;
 pub mod slurm;
 mod stored;

@@ -2,11 +2,11 @@
 //! decision), `calibration.png` and one SVG per compression curve (measured vs baseline vs
 //! corrected), and `corrected.toml` (the config with the named effects applied).
 
-use super::attribution::{Decision, DetectionLimit, EffectFit, PREDICTION_LIMIT};
-use super::effects::Effect;
+use super::attribution::Decision;
 use super::figures::plot_panels;
-use super::gap::{chi2_quantile_95, CurveGap, Gap};
-use super::workflow::{describe_decision, limit_text, Calibration, Round};
+use super::gap::{chi2_quantile_95, Gap};
+use super::report_tables::*;
+use super::workflow::{describe_decision, Calibration};
 use crate::output::atomic::write_atomic;
 use crate::output::plot::panels_png;
 use std::fmt::Write as _;
@@ -133,77 +133,6 @@ pub fn corrected_config(cal: &Calibration, measured: &str, config_path: &Path) -
     s
 }
 
-fn fmt_factor(f: f64) -> String {
-    if (0.01..1000.0).contains(&f) {
-        format!("{f:.3}")
-    } else {
-        format!("{f:.3e}")
-    }
-}
-
-fn curve_table(s: &mut String, gap: &Gap, cal: &Calibration) {
-    s.push_str("| curve | points covered | RMS gap | RMS noise | chi2 | verdict |\n|---|---|---|---|---|---|\n");
-    let n_comp = cal.measured.compression.len();
-    for (k, c) in gap.curves.iter().enumerate() {
-        let unit = if k < n_comp { "" } else { " m/s" };
-        let _ = writeln!(
-            s,
-            "| {} | {}/{} | {:.4}{unit} | {:.4}{unit} | {:.2} | {} |",
-            c.name,
-            c.covered,
-            c.residual.len(),
-            c.rms,
-            c.noise,
-            c.chi2,
-            verdict_text(c, k >= n_comp)
-        );
-    }
-    let _ = writeln!(
-        s,
-        "\nTotal chi2 = {:.2} (one degree of freedom per curve); the 95% noise threshold is {:.2}: \
-         the gap is **{}**.\n",
-        gap.chi2,
-        gap.threshold,
-        if gap.within_noise() {
-            "within noise"
-        } else {
-            "beyond noise"
-        }
-    );
-}
-
-fn verdict_text(c: &CurveGap, sticking: bool) -> String {
-    use super::gap::Verdict;
-    if !sticking {
-        return c.verdict.text().to_string();
-    }
-    match c.verdict {
-        Verdict::WithinNoise => "within noise".into(),
-        Verdict::TooSoft => "sticks only below the measured speed (too little loss)".into(),
-        Verdict::TooStiff => "sticks above the measured speed (too much loss)".into(),
-        Verdict::Mixed => "differs".into(),
-    }
-}
-
-fn where_table(s: &mut String, gap: &Gap) {
-    s.push_str("| curve | pressure band [Pa] | mean Δφ (sim − meas) | 1σ | verdict |\n|---|---|---|---|---|\n");
-    for c in &gap.curves {
-        for b in &c.bands {
-            let _ = writeln!(
-                s,
-                "| {} | {:.2e} – {:.2e} | {:+.4} | {:.4} | {} |",
-                c.name,
-                b.p_lo,
-                b.p_hi,
-                b.mean,
-                b.sigma,
-                b.verdict.text()
-            );
-        }
-    }
-    s.push('\n');
-}
-
 /// The Markdown report.
 pub fn markdown(cal: &Calibration, measured: &str, config_path: &Path) -> String {
     let m = &cal.measured;
@@ -227,6 +156,7 @@ pub fn markdown(cal: &Calibration, measured: &str, config_path: &Path) -> String
         c.integration.dt_ns,
         cal.runs
     );
+    let _ = writeln!(s, "- search: {}", search_text(cal));
     for curve in &m.compression {
         if let Some(v) = curve.wall_speed {
             if (v - c.experiment.wall_speed_m_s).abs() > 1e-9 * v {
@@ -296,6 +226,19 @@ pub fn markdown(cal: &Calibration, measured: &str, config_path: &Path) -> String
                 );
             }
             s.push('\n');
+        }
+        if !round.pruned.is_empty() {
+            let _ = writeln!(
+                s,
+                "Not widened or refined after the screen (no scaling of a screened response, \
+                 up to ×64 either way, came within Δχ² = 2 of the best effect): {}.\n",
+                round
+                    .pruned
+                    .iter()
+                    .map(|e| e.name())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
         }
         if let Some(single) = &round.single {
             single_observable_text(&mut s, single);
@@ -439,187 +382,39 @@ pub fn write_plan(
     Ok(path)
 }
 
-fn detection_rows(s: &mut String, limits: &[DetectionLimit]) {
-    s.push_str(
-        "| effect | shown below | shown above | with 4× the samples | with the measured σ halved | noise from the simulated samples |\n\
-         |---|---|---|---|---|---|\n",
-    );
-    for d in limits {
-        let _ = writeln!(
-            s,
-            "| {} | {} | {} | {} / {} | {} / {} | {:.0}% |",
-            d.effect.name(),
-            limit_text(d.lower, d.searched.0),
-            limit_text(d.upper, d.searched.1),
-            limit_text(d.lower_4x_samples, d.searched.0),
-            limit_text(d.upper_4x_samples, d.searched.1),
-            limit_text(d.lower_half_sigma, d.searched.0),
-            limit_text(d.upper_half_sigma, d.searched.1),
-            100.0 * d.simulated_share
-        );
-    }
-    s.push_str(
-        "\nA factor is shown when the model against data made with it would pass the 95% \
-         noise threshold of chi2 (noise at its expected value); found on the screened points, \
-         linear in ln factor. To lower a limit: more samples per curve (or more monomers per \
-         sample, about as much per factor) where the simulated samples carry the noise, a \
-         tighter measurement where it does, or another kind of curve (each curve counts as one \
-         degree of freedom, so more points on the same curve do not help).\n\n",
-    );
-}
-
-fn detection_table(s: &mut String, round: &Round, already_shown: bool) {
-    if round.detection.is_empty() || already_shown {
-        return;
-    }
-    s.push_str("Detection limits of these data (smallest factor each way shown at 95%):\n\n");
-    detection_rows(s, &round.detection);
-}
-
-fn single_observable_text(s: &mut String, single: &super::attribution::SingleObservable) {
-    let names = |v: &[Effect]| {
-        if v.is_empty() {
-            "none".to_string()
-        } else {
-            v.iter().map(|e| e.name()).collect::<Vec<_>>().join(", ")
-        }
+/// How the calibration searched and what its runs cost.
+fn search_text(cal: &Calibration) -> String {
+    let n = cal.settings.seeds.len();
+    let k = match cal.settings.screen_seeds {
+        0 => n,
+        k => k.min(n),
     };
-    let _ = writeln!(
-        s,
-        "**The signal rests on one observable:** only {} is beyond noise. Whatever moves it \
-         explains these data as well: in the library, {} (within their searched ranges); not in \
-         the library, {}. Confidences count each of the latter as one equally good explanation.\n",
-        single.curve,
-        names(&single.library),
-        single.outside.join(", ")
-    );
-}
-
-fn held_out_table(s: &mut String, round: &Round) {
-    let fits: Vec<&EffectFit> = round
-        .fits
-        .iter()
-        .filter(|f| !f.held_out.is_empty())
-        .take(3)
-        .collect();
-    if fits.is_empty() {
-        return;
-    }
-    let _ = writeln!(
-        s,
-        "Leave one curve out: each of the best fits refitted without one curve, and that \
-         curve's lowest chi2 over the factors the other curves allow (their chi2 within 3.84 of \
-         its minimum; predicted: below {PREDICTION_LIMIT}, the 99% limit of one degree).\n\n\
-         | effect | left out | factor without it (allowed) | chi2 of the left-out curve | predicted |\n|---|---|---|---|---|"
-    );
-    for f in fits {
-        for h in &f.held_out {
-            let _ = writeln!(
-                s,
-                "| {} | {} | {} ({} – {}) | {:.2} | {} |",
-                f.effect.name(),
-                h.curve,
-                fmt_factor(h.factor),
-                fmt_factor(h.allowed.0),
-                fmt_factor(h.allowed.1),
-                h.chi2,
-                if !h.constrained {
-                    "not judged: the other curves do not pin the factor"
-                } else if h.predicted {
-                    "yes"
-                } else {
-                    "**no**"
-                }
-            );
-        }
-        let fails = f.failed_predictions();
-        if !fails.is_empty() {
-            let fitted: Vec<&str> = f
-                .held_out
-                .iter()
-                .filter(|h| h.predicted && h.constrained)
-                .map(|h| h.curve.as_str())
-                .collect();
-            let _ = writeln!(
-                s,
-                "| {} | fits {}, does not predict {} | | | |",
-                f.effect.name(),
-                if fitted.is_empty() {
-                    "the curves jointly".to_string()
-                } else {
-                    fitted.join(", ")
-                },
-                fails.join(", ")
-            );
-        }
-    }
-    s.push('\n');
-}
-
-/// The chosen effect's value, whether it is a bound (and why the search stopped), and for
-/// the damping which form was chosen.
-fn chosen_text(s: &mut String, f: &EffectFit, fits: &[EffectFit], base: &crate::config::Config) {
-    if let Some(b) = &f.bound {
-        let _ = writeln!(
-            s,
-            "The fit of {} lands on the end of the searched range: the data ask for {} x{} \
-             ({}), a bound, not a value. {}\n",
-            f.effect.name(),
-            if b.upper { "at least" } else { "at most" },
-            fmt_factor(f.factor),
-            f.effect.describe_value(base, f.factor),
-            match b.limit {
-                Some(why) => format!("The search stopped at the effect's limit: {why}."),
-                None => "The search stopped after its widenings; widen further with more rounds \
-                         of the calibration or a base config nearer the bound."
-                    .into(),
-            }
-        );
-    }
-    if f.effect.family() == Effect::NormalDamping {
-        let other = fits
-            .iter()
-            .find(|g| g.effect.family() == Effect::NormalDamping && g.effect != f.effect);
-        let _ = writeln!(
-            s,
-            "Damping: chose the {} form, {}{}.\n",
-            if f.effect.identity_at_one() {
-                "config's own"
-            } else {
-                "other"
-            },
-            f.effect.describe_value(base, f.factor),
-            match other {
-                Some(g) => format!(
-                    " (chi2 {:.2}; the {} form fits to chi2 {:.2} with {})",
-                    f.chi2,
-                    if g.effect.identity_at_one() {
-                        "config's own"
-                    } else {
-                        "other"
-                    },
-                    g.chi2,
-                    g.effect.describe_value(base, g.factor)
-                ),
-                None => String::new(),
-            }
-        );
-    }
-}
-
-/// The config a round started from: the base with the earlier rounds' effects applied.
-fn round_base(cal: &Calibration, round: usize) -> crate::config::Config {
-    let mut c = cal.base.clone();
-    for (effect, factor) in cal.applied.iter().take(round) {
-        c = effect.apply(&c, *factor);
-    }
-    c
+    let screen = if k == n {
+        format!("screen and 1-D fits on all {n} seed(s)")
+    } else {
+        format!(
+            "screen and 1-D fits on the first {k} of the {n} seeds, as differences from the \
+             current model on the same samples (common random numbers); baseline and every \
+             kept correction on all {n}"
+        )
+    };
+    format!(
+        "{screen}; effects that cannot come near the best {}; {} compressions and {} sticking \
+         runs requested",
+        if cal.settings.prune {
+            "dropped after the screen"
+        } else {
+            "kept"
+        },
+        cal.cost.compressions,
+        cal.cost.sticking,
+    )
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::calibrate::gap::Verdict;
+    use crate::calibrate::gap::{CurveGap, Verdict};
 
     fn curve(name: &str, rms: f64, chi2: f64) -> CurveGap {
         CurveGap {

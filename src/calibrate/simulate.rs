@@ -99,6 +99,8 @@ pub struct RunCache {
     slurm: Option<SlurmRuns>,
     /// Runs this process simulated (not read back from disk or another process).
     made: AtomicUsize,
+    /// Seconds each run this process simulated took (on its one thread), by key.
+    costs: Mutex<HashMap<String, f64>>,
 }
 
 impl RunCache {
@@ -171,8 +173,7 @@ impl RunCache {
         };
         slot.get_or_init(|| {
             let Some(dir) = &self.dir else {
-                self.made.fetch_add(1, Ordering::Relaxed);
-                return simulate(run);
+                return self.simulate_timed(run, &key);
             };
             let path = dir.join(format!("{:016x}.run", fnv1a64(key.as_bytes())));
             if let Some(out) = stored::read(&path, &key) {
@@ -190,8 +191,7 @@ impl RunCache {
                 Ok(lock) => lock,
                 Err(out) => return Ok(out),
             };
-            self.made.fetch_add(1, Ordering::Relaxed);
-            let out = simulate(run);
+            let out = self.simulate_timed(run, &key);
             if let Ok(o) = &out {
                 // A cache that cannot be written costs a repeat next time, nothing else.
                 let _ = std::fs::create_dir_all(dir)
@@ -200,6 +200,24 @@ impl RunCache {
             out
         })
         .clone()
+    }
+
+    fn simulate_timed(&self, run: &Run, key: &str) -> Result<Output, String> {
+        self.made.fetch_add(1, Ordering::Relaxed);
+        // Wall-clock: the engine may run a small sample on a pool thread, so the calling
+        // thread's CPU time would miss it; with one run per core this is the run's CPU time.
+        let start = std::time::Instant::now();
+        let out = simulate(run);
+        let seconds = start.elapsed().as_secs_f64();
+        if let Ok(mut costs) = self.costs.lock() {
+            costs.insert(key.to_string(), seconds);
+        }
+        out
+    }
+
+    /// The seconds `run` took, where this process simulated it.
+    pub fn cost(&self, run: &Run) -> Option<f64> {
+        self.costs.lock().ok()?.get(&run.key()).copied()
     }
 
     /// How many runs this process simulated itself.

@@ -7,19 +7,26 @@ use super::attribution::{
     attribute, detection_limit, Decision, DetectionLimit, EffectFit, Grid, SingleObservable,
 };
 use super::effects::Effect;
-use super::gap::{gap, targets, Gap, Prediction};
+use super::gap::{gap, Gap, Prediction};
 use super::measured::{Geometry, MeasuredSet};
 use super::outside::{outside_library, single_observable, OutsideLibrary};
-use super::simulate::{
-    compression_config, run_all, sticking_config, Output, Run, RunCache, STICKING_TOLERANCE,
-};
+use super::predictor::{Cost, Predictor};
+use super::search::{polish, pruned, refine, screen, Current, PRUNE_DELTA_CHI2};
+use super::simulate::RunCache;
 use crate::config::Config;
 
 /// How much simulation a calibration may spend.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Settings {
-    /// RBD sample seeds: every compression curve is simulated once per seed.
+    /// RBD sample seeds: every compression curve is simulated once per seed for the baseline
+    /// and for each correction a round keeps.
     pub seeds: Vec<u64>,
+    /// Seeds of the screen, the widening and the refinement: the first this many of `seeds`,
+    /// on common random numbers (see [`super::predictor`]); 0 screens on every seed.
+    pub screen_seeds: usize,
+    /// Drop the effects that cannot come within Δχ² = 2 of the best one after the screen
+    /// ([`super::search::pruned`]) instead of widening and refining them too.
+    pub prune: bool,
     pub threads: usize,
     /// Effects added one after the other at most.
     pub max_rounds: usize,
@@ -40,6 +47,8 @@ impl Default for Settings {
     fn default() -> Self {
         Settings {
             seeds: vec![1, 2, 3],
+            screen_seeds: 1,
+            prune: true,
             threads: std::thread::available_parallelism().map_or(2, |n| n.get()),
             max_rounds: 2,
             candidates: 3,
@@ -61,6 +70,9 @@ pub struct Round {
     pub single: Option<SingleObservable>,
     /// Set when the cause may lie outside the library (ties, bounds, a gap left).
     pub outside: Option<OutsideLibrary>,
+    /// Effects dropped after the screen: no scaling of their screened response came within
+    /// Δχ² = 2 of the best effect, so they were neither widened nor refined.
+    pub pruned: Vec<Effect>,
     /// Fits sorted by χ², best first (empty when the gap was within noise).
     pub fits: Vec<EffectFit>,
     pub decision: Decision,
@@ -83,6 +95,7 @@ pub struct Calibration {
     pub baseline: Vec<Prediction>,
     pub final_predictions: Vec<Prediction>,
     pub runs: usize,
+    pub cost: Cost,
 }
 
 impl Calibration {
@@ -107,95 +120,6 @@ impl Calibration {
     }
 }
 
-/// Predicts every measured curve for each config (all runs in one parallel batch).
-pub struct Predictor<'a> {
-    pub measured: &'a MeasuredSet,
-    pub cache: &'a RunCache,
-    pub settings: &'a Settings,
-    pub progress: &'a (dyn Fn(&str) + Sync),
-    pub runs: usize,
-}
-
-impl Predictor<'_> {
-    fn runs_for(&self, config: &Config) -> Vec<Run> {
-        let mut runs = Vec::new();
-        for c in &self.measured.compression {
-            let (_, p_max) = c.pressure_range();
-            for &seed in &self.settings.seeds {
-                runs.push(Run::Compression(compression_config(
-                    config, c.geometry, seed, p_max,
-                )));
-            }
-        }
-        if !self.measured.sticking.is_empty() {
-            runs.push(Run::Sticking(sticking_config(config)));
-        }
-        runs
-    }
-
-    pub fn predict(
-        &mut self,
-        configs: &[Config],
-        what: &str,
-    ) -> Result<Vec<Vec<Prediction>>, String> {
-        let per: Vec<Vec<Run>> = configs.iter().map(|c| self.runs_for(c)).collect();
-        let flat: Vec<Run> = per.iter().flatten().cloned().collect();
-        (self.progress)(&format!(
-            "{what}: {} configuration(s), {} run(s)",
-            configs.len(),
-            flat.len()
-        ));
-        let progress = self.progress;
-        let step = (flat.len() / 10).max(1);
-        let outputs = run_all(&flat, self.cache, self.settings.threads, &|k, n| {
-            if k % step == 0 || k == n {
-                progress(&format!("  {what}: {k}/{n} runs done"));
-            }
-        });
-        self.runs += flat.len();
-        let failed = outputs
-            .iter()
-            .filter(|o| matches!(o, Ok(Output::Envelope(e)) if e.failure.is_some()))
-            .count();
-        if failed > 0 {
-            (self.progress)(&format!(
-                "  {what}: {failed} compression(s) stopped by a run-time guard; their curves end there"
-            ));
-        }
-        let targets = targets(self.measured);
-        let mut outputs = outputs.into_iter();
-        let mut all = Vec::new();
-        for _ in configs {
-            let mut predictions = Vec::new();
-            for t in &targets {
-                let mut per_seed = Vec::new();
-                for _ in &self.settings.seeds {
-                    match outputs.next().expect("one output per run")? {
-                        Output::Envelope(e) => {
-                            per_seed.push(t.iter().map(|&p| e.phi_at(p)).collect::<Vec<_>>())
-                        }
-                        Output::Sticking(_) => unreachable!("run order"),
-                    }
-                }
-                predictions.push(Prediction::from_seeds(&per_seed));
-            }
-            if !self.measured.sticking.is_empty() {
-                let Output::Sticking(v) = outputs.next().expect("one output per run")? else {
-                    unreachable!("run order")
-                };
-                for _ in &self.measured.sticking {
-                    predictions.push(Prediction::Sticking {
-                        velocity: v,
-                        resolution: 0.5 * STICKING_TOLERANCE * v,
-                    });
-                }
-            }
-            all.push(predictions);
-        }
-        Ok(all)
-    }
-}
-
 /// Calibrates `base` against `measured`.
 pub fn calibrate(
     measured: &MeasuredSet,
@@ -204,16 +128,8 @@ pub fn calibrate(
     cache: &RunCache,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<Calibration, String> {
-    if settings.seeds.is_empty() {
-        return Err("calibration needs at least one sample seed".into());
-    }
-    let mut predictor = Predictor {
-        measured,
-        cache,
-        settings,
-        progress,
-        runs: 0,
-    };
+    check_seeds(settings)?;
+    let mut predictor = Predictor::new(measured, cache, settings, progress);
     let has_omni = measured
         .compression
         .iter()
@@ -243,13 +159,11 @@ pub fn calibrate(
             })
             .collect();
         // The screen runs even when the gap is within noise: it gives the detection limits.
-        let mut grids = screen(
-            &mut predictor,
-            &current,
-            &current_predictions,
-            &effects,
-            round,
-        )?;
+        let now = Current {
+            config: &current,
+            predictions: &current_predictions,
+        };
+        let mut grids = screen(&mut predictor, &now, &effects, round)?;
         let detection: Vec<DetectionLimit> = grids
             .iter()
             .filter_map(|g| detection_limit(measured, g))
@@ -266,6 +180,7 @@ pub fn calibrate(
                 detection,
                 single: None,
                 outside: None,
+                pruned: Vec::new(),
                 fits: Vec::new(),
                 decision: Decision::WithinNoise,
                 applied: None,
@@ -274,17 +189,38 @@ pub fn calibrate(
             });
             break;
         }
-        refine(&mut predictor, &current, &mut grids, round)?;
+        let dropped = if settings.prune {
+            pruned(measured, &grids, &current_predictions)
+        } else {
+            Vec::new()
+        };
+        if !dropped.is_empty() {
+            progress(&format!(
+                "round {round}: not widened or refined (cannot come within chi2 + 2 of the \
+                 best): {}",
+                dropped
+                    .iter()
+                    .map(|e| e.name())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        }
+        refine(&mut predictor, &now, &mut grids, &dropped, round)?;
+        let (fits, decision, polished) =
+            polish_leaders(&mut predictor, &now, &mut grids, &before, round)?;
         let single = single_observable(measured, &before, &grids);
-        let (fits, decision) = attribute(measured, &before, &grids);
         let outside = outside_library(&before, &fits, &decision, !measured.compression.is_empty());
         report_fits(progress, round, &fits, &decision);
-        let Some(effect) = decision.chosen() else {
+        let kept = decision
+            .chosen()
+            .and_then(|e| polished.into_iter().find(|p| p.0 == e));
+        let Some((effect, factor, after_predictions)) = kept else {
             rounds.push(Round {
                 gap_before: before,
                 detection,
                 single,
                 outside,
+                pruned: dropped,
                 fits,
                 decision,
                 applied: None,
@@ -293,18 +229,7 @@ pub fn calibrate(
             });
             break;
         };
-        let factor = fits
-            .iter()
-            .find(|f| f.effect == effect)
-            .expect("fitted")
-            .factor;
         let corrected = effect.apply(&current, factor);
-        let after_predictions = predictor
-            .predict(
-                std::slice::from_ref(&corrected),
-                &format!("round {round}: re-run with {}", effect.name()),
-            )?
-            .remove(0);
         let after = gap(measured, &after_predictions);
         let rejected = after.chi2 >= before.chi2;
         progress(&format!(
@@ -321,6 +246,7 @@ pub fn calibrate(
             detection,
             single,
             outside,
+            pruned: dropped,
             fits,
             decision,
             applied: Some((effect, factor)),
@@ -347,7 +273,8 @@ pub fn calibrate(
         rounds,
         baseline,
         final_predictions: current_predictions,
-        runs: predictor.runs,
+        runs: predictor.cost.runs(),
+        cost: predictor.cost,
     })
 }
 
@@ -373,16 +300,8 @@ pub fn plan(
     cache: &RunCache,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<Plan, String> {
-    if settings.seeds.is_empty() {
-        return Err("calibration needs at least one sample seed".into());
-    }
-    let mut predictor = Predictor {
-        measured,
-        cache,
-        settings,
-        progress,
-        runs: 0,
-    };
+    check_seeds(settings)?;
+    let mut predictor = Predictor::new(measured, cache, settings, progress);
     let has_omni = measured
         .compression
         .iter()
@@ -396,7 +315,11 @@ pub fn plan(
         .copied()
         .filter(|e| e.applies(base, has_omni))
         .collect();
-    let grids = screen(&mut predictor, base, &baseline, &effects, 1)?;
+    let now = Current {
+        config: base,
+        predictions: &baseline,
+    };
+    let grids = screen(&mut predictor, &now, &effects, 1)?;
     let detection: Vec<DetectionLimit> = grids
         .iter()
         .filter_map(|g| detection_limit(measured, g))
@@ -410,120 +333,89 @@ pub fn plan(
         base: base.clone(),
         baseline: gap(measured, &baseline),
         detection,
-        runs: predictor.runs,
+        runs: predictor.cost.runs(),
     })
 }
 
-/// Simulates every effect at the ends of its range (and the damping form switch at its
-/// factor 1, which is not the config's model).
-fn screen(
-    predictor: &mut Predictor,
-    current: &Config,
-    current_predictions: &[Prediction],
-    effects: &[Effect],
-    round: usize,
-) -> Result<Vec<Grid>, String> {
-    let mut grids: Vec<Grid> = effects.iter().map(|&e| Grid::new(e)).collect();
-    let mut points = Vec::new();
-    for g in &mut grids {
-        if g.effect.identity_at_one() {
-            g.insert(0.0, current_predictions.to_vec());
-        } else {
-            points.push((g.effect, 1.0));
-        }
-        let (lo, hi) = g.effect.range();
-        points.push((g.effect, lo));
-        points.push((g.effect, hi));
-    }
-    add_points(predictor, &mut grids, &points, current, round, "screen")?;
-    Ok(grids)
-}
+/// An effect with the factor it was simulated at on every seed, and those predictions.
+type Polished = (Effect, f64, Vec<Prediction>);
 
-/// Widens the search of every effect whose fit lands on an end of its searched range with χ²
-/// still falling there (see [`Grid::end_still_falling`]), towards the
-/// effect's limits; then refines the best candidates' fits by a point at the interpolated
-/// minimum until it stops moving. Every effect is widened, not just the best screened: an
-/// effect that needs a factor far beyond the screen (the viscous damping that Poppe et al.'s
-/// sticking speed needs from the paper's kappa) looks useless at the screen's ends.
-fn refine(
+/// Fits and decides, with the leading effects' factors re-fitted on every seed: each effect
+/// within Δχ² = 2 of the best fit is polished ([`polish`]) and the fits redone, until the
+/// leaders have all been polished (at most `candidates` + 1 effects). With every seed
+/// screened only the chosen effect is re-run, at its fitted factor.
+fn polish_leaders(
     predictor: &mut Predictor,
-    current: &Config,
+    now: &Current,
     grids: &mut [Grid],
+    before: &Gap,
     round: usize,
-) -> Result<(), String> {
+) -> Result<(Vec<EffectFit>, Decision, Vec<Polished>), String> {
     let settings = predictor.settings;
     let measured = predictor.measured;
-    for pass in 1..=settings.widenings {
-        let wanted: Vec<(Effect, f64)> = grids
-            .iter()
-            .filter(|g| g.end_still_falling(measured))
-            .filter_map(|g| g.widen_point(measured).map(|u| (g.effect, u.exp())))
-            .collect();
-        if wanted.is_empty() {
+    let screened_all = predictor.screens_every_seed();
+    let limit = if screened_all {
+        1
+    } else {
+        settings.candidates.max(1) + 1
+    };
+    let (mut fits, mut decision) = attribute(measured, before, grids);
+    let mut polished: Vec<Polished> = Vec::new();
+    // The leaders are polished also when the screened fits name nothing: a screened response
+    // weaker than the mean one can hide an effect that lowers χ² significantly.
+    while polished.len() < limit {
+        let best = fits.iter().map(|f| f.chi2).fold(f64::INFINITY, f64::min);
+        let leaders: Vec<(Effect, f64)> = if screened_all {
+            let Some(e) = decision.chosen() else { break };
+            let f = fits.iter().find(|f| f.effect == e).expect("fitted");
+            vec![(e, f.factor)]
+        } else {
+            fits.iter()
+                .filter(|f| f.chi2 <= best + PRUNE_DELTA_CHI2)
+                .filter(|f| !polished.iter().any(|p| p.0 == f.effect))
+                .map(|f| (f.effect, f.factor))
+                .collect()
+        };
+        if leaders.is_empty() {
             break;
         }
-        add_points(
-            predictor,
-            grids,
-            &wanted,
-            current,
-            round,
-            &format!("widen {pass}"),
-        )?;
-    }
-    let mut ranked: Vec<(f64, usize)> = grids
-        .iter()
-        .enumerate()
-        .map(|(k, g)| (g.minimum(measured).1, k))
-        .collect();
-    ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let candidates: Vec<usize> = ranked
-        .iter()
-        .take(settings.candidates)
-        .map(|&(_, k)| k)
-        .collect();
-    for pass in 1..=settings.refinements {
-        // A minimum on an end is a bound: nothing to refine there.
-        let wanted: Vec<(Effect, f64)> = candidates
-            .iter()
-            .map(|&k| &grids[k])
-            .filter(|g| g.minimum_at_end(measured).is_none())
-            .filter_map(|g| {
-                g.next_point(measured, settings.refine_tolerance)
-                    .map(|u| (g.effect, u.exp()))
-            })
-            .collect();
-        if wanted.is_empty() {
-            break;
+        for (effect, factor) in leaders.into_iter().take(limit - polished.len()) {
+            let grid = grids.iter_mut().find(|g| g.effect == effect).expect("grid");
+            let (run_factor, predictions) = polish(predictor, now, grid, factor, round)?;
+            polished.push((effect, run_factor, predictions));
         }
-        add_points(
-            predictor,
-            grids,
-            &wanted,
-            current,
-            round,
-            &format!("refine {pass}"),
-        )?;
+        (fits, decision) = attribute(measured, before, grids);
     }
-    Ok(())
+    // The chosen effect is applied at its fitted factor, simulated on every seed (4% off the
+    // fit moved a damping correction's χ² from within noise to beyond it).
+    if let Some(effect) = decision.chosen() {
+        let fitted = fits
+            .iter()
+            .find(|f| f.effect == effect)
+            .expect("fitted")
+            .factor;
+        if let Some(p) = polished.iter_mut().find(|p| p.0 == effect) {
+            if fitted != p.1 {
+                let config = effect.apply(now.config, fitted);
+                let what = format!("round {round}: re-run with {} at its fit", effect.name());
+                p.2 = predictor.predict(&[config], &what)?.remove(0);
+                p.1 = fitted;
+            }
+        }
+    }
+    Ok((fits, decision, polished))
 }
 
-fn add_points(
-    predictor: &mut Predictor,
-    grids: &mut [Grid],
-    points: &[(Effect, f64)],
-    current: &Config,
-    round: usize,
-    what: &str,
-) -> Result<(), String> {
-    let configs: Vec<Config> = points.iter().map(|&(e, f)| e.apply(current, f)).collect();
-    let predictions = predictor.predict(&configs, &format!("round {round}: {what}"))?;
-    for (&(effect, factor), p) in points.iter().zip(predictions) {
-        let grid = grids
-            .iter_mut()
-            .find(|g| g.effect == effect)
-            .expect("grid per effect");
-        grid.insert(factor.ln(), p);
+fn check_seeds(settings: &Settings) -> Result<(), String> {
+    let n = settings.seeds.len();
+    if n == 0 {
+        return Err("calibration needs at least one sample seed".into());
+    }
+    if settings.screen_seeds > n {
+        return Err(format!(
+            "screen seeds: {} is more than the {n} seed(s) given; allowed 0 (every seed) to {n}",
+            settings.screen_seeds
+        ));
     }
     Ok(())
 }

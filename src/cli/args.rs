@@ -92,9 +92,18 @@ pub(super) enum Command {
         config: PathBuf,
         #[arg(long, default_value = "runs/calibration")]
         out: PathBuf,
-        /// RBD sample seeds; each compression curve is simulated once per seed.
+        /// RBD sample seeds; each compression curve is simulated once per seed for the
+        /// baseline and for every correction kept.
         #[arg(long, value_delimiter = ',', default_value = "1,2,3")]
         seeds: Vec<u64>,
+        /// Seeds of the screen and the 1-D fits: the first N of --seeds, compared with the
+        /// current model on the same samples (common random numbers); 0: every seed.
+        #[arg(long, default_value_t = 1)]
+        screen_seeds: usize,
+        /// Widen and refine every effect, also those that cannot come within Δχ² = 2 of the
+        /// best after the screen.
+        #[arg(long)]
+        no_prune: bool,
         /// Effects added one after the other at most.
         #[arg(long, default_value_t = 2)]
         rounds: usize,

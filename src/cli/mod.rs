@@ -61,6 +61,8 @@ pub fn main() -> ExitCode {
             config,
             out,
             seeds,
+            screen_seeds,
+            no_prune,
             rounds,
             threads,
             plan,
@@ -78,6 +80,8 @@ pub fn main() -> ExitCode {
             });
             let mut settings = Settings {
                 seeds,
+                screen_seeds,
+                prune: !no_prune,
                 max_rounds: rounds,
                 ..Settings::default()
             };

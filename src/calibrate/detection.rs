@@ -1,0 +1,84 @@
+//! Detection limits: the smallest factor of each effect that data like the measured set
+//! would show beyond noise, from the screened grid.
+
+use super::effects::Effect;
+use super::gap::{chi2_quantile_95, shift_chi2};
+use super::grid::Grid;
+use super::measured::MeasuredSet;
+
+/// The smallest factor, each way, that data made with it would show beyond noise against the
+/// config's model at 95%: the χ² of the model against such data, the noise at its expected
+/// value of one per curve, passes the 95% quantile of χ² with one degree per curve, i.e.
+/// n + λ(f) > χ²₉₅(n) with λ the noise-free shift ([`shift_chi2`]). Found on the screened
+/// grid (linear in ln factor); None where the searched range does not reach it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DetectionLimit {
+    pub effect: Effect,
+    /// Below 1 and above 1, with the data as they are.
+    pub lower: Option<f64>,
+    pub upper: Option<f64>,
+    /// The searched range the limits were looked for in.
+    pub searched: (f64, f64),
+    /// The same with four times the simulated samples per curve (the simulation's noise
+    /// variance / 4; four times the monomers per sample does about as much).
+    pub lower_4x_samples: Option<f64>,
+    pub upper_4x_samples: Option<f64>,
+    /// The same with the measurement's uncertainty halved.
+    pub lower_half_sigma: Option<f64>,
+    pub upper_half_sigma: Option<f64>,
+    /// Share of the noise variance (mean over compared points) from the simulated samples.
+    pub simulated_share: f64,
+}
+
+impl DetectionLimit {
+    /// Whether a factor `f` lies within the limits (would pass as noise).
+    pub fn hides(&self, f: f64) -> bool {
+        if f >= 1.0 {
+            self.upper.is_none_or(|u| f < u)
+        } else {
+            self.lower.is_none_or(|l| f > l)
+        }
+    }
+}
+
+/// Points per side of the detection-limit scan.
+pub(super) const LIMIT_SCAN: usize = 400;
+
+/// The detection limits of `grid`'s effect; `grid` must hold the config's own predictions at
+/// u = 0 (the effects whose factor 1 changes the model have none).
+pub fn detection_limit(m: &MeasuredSet, grid: &Grid) -> Option<DetectionLimit> {
+    if !grid.effect.identity_at_one() {
+        return None;
+    }
+    let reference = &grid.points.iter().find(|(u, _)| *u == 0.0)?.1;
+    let n = reference.len();
+    let threshold = chi2_quantile_95(n) - n as f64;
+    let (lo, hi) = grid.ends();
+    let first = |end: f64, scale: (f64, f64)| -> Option<f64> {
+        (1..=LIMIT_SCAN).find_map(|k| {
+            let u = end * k as f64 / LIMIT_SCAN as f64;
+            let shift: f64 = shift_chi2(m, reference, &grid.interpolate(u), scale)
+                .iter()
+                .sum();
+            (shift > threshold).then(|| u.exp())
+        })
+    };
+    let noise = super::gap::noise(m, reference);
+    let points: Vec<_> = noise.iter().flatten().collect();
+    let simulated_share = points
+        .iter()
+        .map(|p| p.simulated / (p.simulated + p.measured))
+        .sum::<f64>()
+        / points.len().max(1) as f64;
+    Some(DetectionLimit {
+        effect: grid.effect,
+        lower: first(lo, (1.0, 1.0)),
+        upper: first(hi, (1.0, 1.0)),
+        searched: (lo.exp(), hi.exp()),
+        lower_4x_samples: first(lo, (0.25, 1.0)),
+        upper_4x_samples: first(hi, (0.25, 1.0)),
+        lower_half_sigma: first(lo, (1.0, 0.25)),
+        upper_half_sigma: first(hi, (1.0, 0.25)),
+        simulated_share,
+    })
+}

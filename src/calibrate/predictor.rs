@@ -1,0 +1,306 @@
+//! Turns configurations into predictions of every measured curve, and counts what that cost.
+//!
+//! Two kinds of prediction: a full one (every calibration seed) for the baseline and every
+//! correction a round keeps, and a screening one on the first `screen_seeds` seeds with common
+//! random numbers: the same samples as the full prediction of the current model, so the
+//! screened configuration's curve is that prediction moved by the per-seed difference
+//! between the two models on those samples. A difference on common samples carries much less
+//! sample-to-sample noise than either curve, so the screen needs fewer seeds to rank and
+//! bound the effects; the noise of the prediction stays the full prediction's seed scatter.
+
+use super::gap::{targets, Prediction};
+use super::measured::MeasuredSet;
+use super::simulate::{
+    compression_config, run_all, sticking_config, Output, Run, RunCache, STICKING_TOLERANCE,
+};
+use super::workflow::Settings;
+use crate::config::Config;
+
+/// What one configuration gave for one measured curve before averaging over seeds.
+enum Raw {
+    /// Per seed, φ at the curve's target pressures.
+    Compression(Vec<Vec<f64>>),
+    /// Sticking threshold [m/s].
+    Sticking(f64),
+}
+
+/// What the predictions of a calibration cost.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Cost {
+    /// Compressions requested (a run the cache already held counts too: the count does not
+    /// depend on what an earlier calibration left in the cache).
+    pub compressions: usize,
+    /// Sticking-threshold runs requested.
+    pub sticking: usize,
+    /// Each requested run's own wall-clock time, summed [s; CPU-seconds where every run had a
+    /// core to itself];
+    /// runs read from a cache on disk, whose cost this process did not see, add nothing.
+    pub cpu_seconds: f64,
+}
+
+impl Cost {
+    pub fn runs(&self) -> usize {
+        self.compressions + self.sticking
+    }
+}
+
+/// Predicts every measured curve for each config (all runs in one parallel batch).
+pub struct Predictor<'a> {
+    pub measured: &'a MeasuredSet,
+    pub cache: &'a RunCache,
+    pub settings: &'a Settings,
+    pub progress: &'a (dyn Fn(&str) + Sync),
+    pub cost: Cost,
+}
+
+impl<'a> Predictor<'a> {
+    pub fn new(
+        measured: &'a MeasuredSet,
+        cache: &'a RunCache,
+        settings: &'a Settings,
+        progress: &'a (dyn Fn(&str) + Sync),
+    ) -> Self {
+        Predictor {
+            measured,
+            cache,
+            settings,
+            progress,
+            cost: Cost::default(),
+        }
+    }
+
+    /// The seeds a screening prediction runs: the first `screen_seeds` (all when 0).
+    fn screen_seeds(&self) -> &'a [u64] {
+        let seeds = &self.settings.seeds;
+        match self.settings.screen_seeds {
+            0 => seeds,
+            k => &seeds[..k.min(seeds.len())],
+        }
+    }
+
+    /// Whether screening predictions are full ones: every seed screened, or no compression
+    /// curve (a sticking velocity does not depend on the sample).
+    pub fn screens_every_seed(&self) -> bool {
+        self.measured.compression.is_empty()
+            || self.screen_seeds().len() == self.settings.seeds.len()
+    }
+
+    fn runs_for(&self, config: &Config, seeds: &[u64]) -> Vec<Run> {
+        let mut runs = Vec::new();
+        for c in &self.measured.compression {
+            let (_, p_max) = c.pressure_range();
+            for &seed in seeds {
+                runs.push(Run::Compression(compression_config(
+                    config, c.geometry, seed, p_max,
+                )));
+            }
+        }
+        if !self.measured.sticking.is_empty() {
+            runs.push(Run::Sticking(sticking_config(config)));
+        }
+        runs
+    }
+
+    /// Every config's raw outputs on `seeds`; `counted` adds the runs to the cost.
+    fn simulate(
+        &mut self,
+        configs: &[Config],
+        seeds: &[u64],
+        what: &str,
+        counted: bool,
+    ) -> Result<Vec<Vec<Raw>>, String> {
+        let flat: Vec<Run> = configs
+            .iter()
+            .flat_map(|c| self.runs_for(c, seeds))
+            .collect();
+        if counted {
+            (self.progress)(&format!(
+                "{what}: {} configuration(s), {} run(s)",
+                configs.len(),
+                flat.len()
+            ));
+        }
+        let progress = self.progress;
+        let step = (flat.len() / 10).max(1);
+        let outputs = run_all(&flat, self.cache, self.settings.threads, &|k, n| {
+            if counted && (k % step == 0 || k == n) {
+                progress(&format!("  {what}: {k}/{n} runs done"));
+            }
+        });
+        if counted {
+            self.count(&flat);
+        }
+        let failed = outputs
+            .iter()
+            .filter(|o| matches!(o, Ok(Output::Envelope(e)) if e.failure.is_some()))
+            .count();
+        if counted && failed > 0 {
+            (self.progress)(&format!(
+                "  {what}: {failed} compression(s) stopped by a run-time guard; their curves end there"
+            ));
+        }
+        let targets = targets(self.measured);
+        let mut outputs = outputs.into_iter();
+        let mut all = Vec::new();
+        for _ in configs {
+            let mut raw = Vec::new();
+            for t in &targets {
+                let mut per_seed = Vec::new();
+                for _ in seeds {
+                    match outputs.next().expect("one output per run")? {
+                        Output::Envelope(e) => {
+                            per_seed.push(t.iter().map(|&p| e.phi_at(p)).collect::<Vec<_>>())
+                        }
+                        Output::Sticking(_) => unreachable!("run order"),
+                    }
+                }
+                raw.push(Raw::Compression(per_seed));
+            }
+            if !self.measured.sticking.is_empty() {
+                let Output::Sticking(v) = outputs.next().expect("one output per run")? else {
+                    unreachable!("run order")
+                };
+                raw.extend(self.measured.sticking.iter().map(|_| Raw::Sticking(v)));
+            }
+            all.push(raw);
+        }
+        Ok(all)
+    }
+
+    fn count(&mut self, runs: &[Run]) {
+        for run in runs {
+            match run {
+                Run::Compression(_) => self.cost.compressions += 1,
+                Run::Sticking(_) => self.cost.sticking += 1,
+            }
+            self.cost.cpu_seconds += self.cache.cost(run).unwrap_or(0.0);
+        }
+    }
+
+    /// Full predictions: every seed.
+    pub fn predict(
+        &mut self,
+        configs: &[Config],
+        what: &str,
+    ) -> Result<Vec<Vec<Prediction>>, String> {
+        let seeds = self.settings.seeds.clone();
+        let raw = self.simulate(configs, &seeds, what, true)?;
+        Ok(raw
+            .into_iter()
+            .map(|r| r.into_iter().map(full_prediction).collect())
+            .collect())
+    }
+
+    /// Screening predictions on common random numbers: `current`'s full predictions moved by
+    /// each config's mean per-seed difference from `current` on the screen seeds. With every
+    /// seed screened this is the full prediction.
+    pub fn predict_screen(
+        &mut self,
+        configs: &[Config],
+        current: &Config,
+        current_predictions: &[Prediction],
+        what: &str,
+    ) -> Result<Vec<Vec<Prediction>>, String> {
+        let seeds = self.screen_seeds();
+        if seeds.len() == self.settings.seeds.len() {
+            return self.predict(configs, what);
+        }
+        let raw = self.simulate(configs, seeds, what, true)?;
+        // Cache hits: `current` ran on every seed for its full prediction.
+        let reference = self
+            .simulate(std::slice::from_ref(current), seeds, what, false)?
+            .remove(0);
+        Ok(raw
+            .into_iter()
+            .map(|r| {
+                r.into_iter()
+                    .zip(&reference)
+                    .zip(current_predictions)
+                    .map(|((x, r), full)| shifted(x, r, full))
+                    .collect()
+            })
+            .collect())
+    }
+}
+
+fn full_prediction(raw: Raw) -> Prediction {
+    match raw {
+        Raw::Compression(per_seed) => Prediction::from_seeds(&per_seed),
+        Raw::Sticking(v) => Prediction::Sticking {
+            velocity: v,
+            resolution: 0.5 * STICKING_TOLERANCE * v,
+        },
+    }
+}
+
+/// `full` moved by the mean per-seed difference of `screened` from `reference` (same seeds).
+fn shifted(screened: Raw, reference: &Raw, full: &Prediction) -> Prediction {
+    match (screened, reference, full) {
+        (
+            Raw::Compression(x),
+            Raw::Compression(r),
+            Prediction::Compression {
+                phi,
+                scatter,
+                seeds,
+            },
+        ) => Prediction::Compression {
+            phi: common_shift(phi, &x, r),
+            scatter: scatter.clone(),
+            seeds: *seeds,
+        },
+        (sticking, _, _) => full_prediction(sticking),
+    }
+}
+
+/// `base[j]` + mean over seeds of `x[s][j] − r[s][j]` (NaN where any seed missed the target).
+fn common_shift(base: &[f64], x: &[Vec<f64>], r: &[Vec<f64>]) -> Vec<f64> {
+    let n = x.len() as f64;
+    base.iter()
+        .enumerate()
+        .map(|(j, &b)| b + x.iter().zip(r).map(|(xs, rs)| xs[j] - rs[j]).sum::<f64>() / n)
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_common_shift_moves_the_full_mean_by_the_mean_paired_difference() {
+        // Seeds (0.20, 0.30) under the screened model, (0.18, 0.24) under the current one:
+        // differences 0.02 and 0.06, mean 0.04, added to the full mean 0.25.
+        let x = vec![vec![0.20, 0.5], vec![0.30, f64::NAN]];
+        let r = vec![vec![0.18, 0.4], vec![0.24, 0.4]];
+        let s = common_shift(&[0.25, 0.45], &x, &r);
+        assert!((s[0] - 0.29).abs() < 1e-15, "{s:?}");
+        assert!(
+            s[1].is_nan(),
+            "a seed that missed the target leaves it unknown"
+        );
+    }
+
+    #[test]
+    fn a_shifted_prediction_keeps_the_full_scatter() {
+        let full = Prediction::Compression {
+            phi: vec![0.3],
+            scatter: vec![0.01],
+            seeds: 3,
+        };
+        let p = shifted(
+            Raw::Compression(vec![vec![0.35]]),
+            &Raw::Compression(vec![vec![0.31]]),
+            &full,
+        );
+        let Prediction::Compression {
+            phi,
+            scatter,
+            seeds,
+        } = p
+        else {
+            panic!("a compression")
+        };
+        assert!((phi[0] - 0.34).abs() < 1e-15);
+        assert_eq!((scatter, seeds), (vec![0.01], 3));
+    }
+}

@@ -1,0 +1,225 @@
+//! The search of one round: screen every effect at the ends of its range, drop the effects
+//! that cannot come near the best one, widen the searched range where χ² still falls at an
+//! end, and refine the best candidates' minima.
+
+use super::attribution::Grid;
+use super::effects::Effect;
+use super::gap::{gap, Prediction};
+use super::measured::MeasuredSet;
+use super::predictor::Predictor;
+use crate::config::Config;
+
+/// An effect is dropped after the screen when even its most favourable scaling of a screened
+/// response stays this far (in χ²) above the best effect's minimum: it can neither win nor tie.
+pub const PRUNE_DELTA_CHI2: f64 = 2.0;
+
+/// Scalings of a screened response tried for the optimistic χ² of an effect: up to 64 times
+/// the screened change, either way (a response weak at the screen's end may grow beyond it:
+/// viscous damping ×500 is what Poppe et al.'s sticking speed asks of the paper's κ).
+const SCALINGS: [f64; 16] = [
+    0.125, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0, 64.0,
+];
+
+/// The model a round starts from, with its full predictions.
+pub struct Current<'a> {
+    pub config: &'a Config,
+    pub predictions: &'a [Prediction],
+}
+
+/// Simulates every effect at the ends of its range (and the damping form switch at its
+/// factor 1, which is not the config's model).
+pub fn screen(
+    predictor: &mut Predictor,
+    current: &Current,
+    effects: &[Effect],
+    round: usize,
+) -> Result<Vec<Grid>, String> {
+    let mut grids: Vec<Grid> = effects.iter().map(|&e| Grid::new(e)).collect();
+    let mut points = Vec::new();
+    for g in &mut grids {
+        if g.effect.identity_at_one() {
+            g.insert(0.0, current.predictions.to_vec());
+        } else {
+            points.push((g.effect, 1.0));
+        }
+        let (lo, hi) = g.effect.range();
+        points.push((g.effect, lo));
+        points.push((g.effect, hi));
+    }
+    add_points(predictor, &mut grids, &points, current, round, "screen")?;
+    Ok(grids)
+}
+
+/// The lowest χ² any scaling (either sign, up to ×64) of one of the grid's simulated changes
+/// from the current model reaches: a bound on what the effect could do if its response kept
+/// a shape the screen has seen.
+pub fn optimistic_chi2(m: &MeasuredSet, grid: &Grid, current: &[Prediction]) -> f64 {
+    let mut best = gap(m, current).chi2;
+    for (_, predictions) in &grid.points {
+        for &s in &SCALINGS {
+            for t in [s, -s] {
+                let moved: Vec<Prediction> = current
+                    .iter()
+                    .zip(predictions)
+                    .map(|(a, b)| Prediction::blend(a, b, t))
+                    .collect();
+                best = best.min(gap(m, &moved).chi2);
+            }
+        }
+    }
+    best
+}
+
+/// The effects that cannot come within [`PRUNE_DELTA_CHI2`] of the best screened minimum.
+pub fn pruned(m: &MeasuredSet, grids: &[Grid], current: &[Prediction]) -> Vec<Effect> {
+    let leader = grids
+        .iter()
+        .map(|g| g.minimum(m).1)
+        .fold(f64::INFINITY, f64::min);
+    grids
+        .iter()
+        .filter(|g| optimistic_chi2(m, g, current) > leader + PRUNE_DELTA_CHI2)
+        .map(|g| g.effect)
+        .collect()
+}
+
+/// Widens the search of every effect whose fit lands on an end of its searched range with χ²
+/// still falling there (see [`Grid::end_still_falling`]), towards the effect's limits; then
+/// refines the best candidates' fits by a point at the interpolated minimum until it stops
+/// moving. Every effect not in `dropped` is widened, not just the best screened: an effect
+/// that needs a factor far beyond the screen (the viscous damping that Poppe et al.'s sticking
+/// speed needs from the paper's κ) looks useless at the screen's ends.
+pub fn refine(
+    predictor: &mut Predictor,
+    current: &Current,
+    grids: &mut [Grid],
+    dropped: &[Effect],
+    round: usize,
+) -> Result<(), String> {
+    let settings = predictor.settings;
+    let measured = predictor.measured;
+    let live = |g: &&Grid| !dropped.contains(&g.effect);
+    for pass in 1..=settings.widenings {
+        let wanted: Vec<(Effect, f64)> = grids
+            .iter()
+            .filter(live)
+            .filter(|g| g.end_still_falling(measured))
+            .filter_map(|g| g.widen_point(measured).map(|u| (g.effect, u.exp())))
+            .collect();
+        if wanted.is_empty() {
+            break;
+        }
+        let what = format!("widen {pass}");
+        add_points(predictor, grids, &wanted, current, round, &what)?;
+    }
+    let mut ranked: Vec<(f64, usize)> = grids
+        .iter()
+        .enumerate()
+        .filter(|(_, g)| live(g))
+        .map(|(k, g)| (g.minimum(measured).1, k))
+        .collect();
+    ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let candidates: Vec<usize> = ranked
+        .iter()
+        .take(settings.candidates)
+        .map(|&(_, k)| k)
+        .collect();
+    for pass in 1..=settings.refinements {
+        // A minimum on an end is a bound: nothing to refine there.
+        let wanted: Vec<(Effect, f64)> = candidates
+            .iter()
+            .map(|&k| &grids[k])
+            .filter(|g| g.minimum_at_end(measured).is_none())
+            .filter_map(|g| {
+                g.next_point(measured, settings.refine_tolerance)
+                    .map(|u| (g.effect, u.exp()))
+            })
+            .collect();
+        if wanted.is_empty() {
+            break;
+        }
+        let what = format!("refine {pass}");
+        add_points(predictor, grids, &wanted, current, round, &what)?;
+    }
+    Ok(())
+}
+
+/// The chosen effect's factor on full predictions (every seed). The screen's points carry the
+/// screened samples' own response to the effect, which can differ from the mean response by
+/// tens of percent at small sizes; a full prediction at the fitted minimum replaces that
+/// response there, and the minimum is re-fitted until it moves by less than the refinement
+/// tolerance (in ln factor). Returns the last factor simulated on every seed and its
+/// predictions; with every seed screened that is the fitted factor, simulated once.
+pub fn polish(
+    predictor: &mut Predictor,
+    current: &Current,
+    grid: &mut Grid,
+    factor: f64,
+    round: usize,
+) -> Result<(f64, Vec<Prediction>), String> {
+    let settings = predictor.settings;
+    let measured = predictor.measured;
+    let screened_all = predictor.screens_every_seed();
+    let mut u = factor.ln();
+    let passes = if screened_all {
+        1
+    } else {
+        settings.refinements.max(1)
+    };
+    let mut last = None;
+    let mut full_points = Vec::new();
+    for pass in 1..=passes {
+        let what = if pass == 1 {
+            format!("round {round}: re-run with {}", grid.effect.name())
+        } else {
+            format!("round {round}: re-fit {pass} of {}", grid.effect.name())
+        };
+        let config = grid.effect.apply(current.config, u.exp());
+        let full = predictor.predict(&[config], &what)?.remove(0);
+        grid.insert(u, full.clone());
+        full_points.push(u);
+        if !screened_all {
+            // Screened points between the ends would meet the full ones in a kink that the
+            // interpolation reads as a sharp minimum (a falsely narrow interval): near the
+            // minimum only full points count.
+            let (lo, hi) = grid.ends();
+            grid.points
+                .retain(|(x, _)| *x == lo || *x == hi || *x == 0.0 || full_points.contains(x));
+        }
+        last = Some((u.exp(), full));
+        let (next, _, _) = grid.minimum(measured);
+        if screened_all || (next - u).abs() <= settings.refine_tolerance {
+            break;
+        }
+        u = next;
+    }
+    Ok(last.expect("at least one pass"))
+}
+
+fn add_points(
+    predictor: &mut Predictor,
+    grids: &mut [Grid],
+    points: &[(Effect, f64)],
+    current: &Current,
+    round: usize,
+    what: &str,
+) -> Result<(), String> {
+    let configs: Vec<Config> = points
+        .iter()
+        .map(|&(e, f)| e.apply(current.config, f))
+        .collect();
+    let predictions = predictor.predict_screen(
+        &configs,
+        current.config,
+        current.predictions,
+        &format!("round {round}: {what}"),
+    )?;
+    for (&(effect, factor), p) in points.iter().zip(predictions) {
+        let grid = grids
+            .iter_mut()
+            .find(|g| g.effect == effect)
+            .expect("grid per effect");
+        grid.insert(factor.ln(), p);
+    }
+    Ok(())
+}
