@@ -31,6 +31,20 @@ pub struct DetectionLimit {
 }
 
 impl DetectionLimit {
+    /// The six limits as text, in the order lower, upper, lower and upper with 4× the
+    /// samples, lower and upper with the measured σ halved.
+    pub fn texts(&self) -> [String; 6] {
+        let (lo, hi) = self.searched;
+        [
+            limit_text(self.lower, lo),
+            limit_text(self.upper, hi),
+            limit_text(self.lower_4x_samples, lo),
+            limit_text(self.upper_4x_samples, hi),
+            limit_text(self.lower_half_sigma, lo),
+            limit_text(self.upper_half_sigma, hi),
+        ]
+    }
+
     /// Whether a factor `f` lies within the limits (would pass as noise).
     pub fn hides(&self, f: f64) -> bool {
         if f >= 1.0 {
@@ -81,4 +95,20 @@ pub fn detection_limit(m: &MeasuredSet, grid: &Grid) -> Option<DetectionLimit> {
         upper_half_sigma: first(hi, (1.0, 0.25)),
         simulated_share,
     })
+}
+
+/// "x0.42", or "beyond x0.125" when the searched range holds no detectable factor.
+pub fn limit_text(limit: Option<f64>, end: f64) -> String {
+    match limit {
+        Some(f) => format!("x{}", short_factor(f)),
+        None => format!("not within x{}", short_factor(end)),
+    }
+}
+
+fn short_factor(f: f64) -> String {
+    if (0.01..1000.0).contains(&f) {
+        format!("{f:.3}")
+    } else {
+        format!("{f:.2e}")
+    }
 }

@@ -15,6 +15,7 @@ pub mod effects;
 pub mod figures;
 pub mod gap;
 pub mod grid;
+pub mod held_out;
 pub mod measured;
 pub mod outside;
 pub mod predictor;

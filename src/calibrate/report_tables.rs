@@ -4,7 +4,7 @@
 use super::attribution::{DetectionLimit, EffectFit, PREDICTION_LIMIT};
 use super::effects::Effect;
 use super::gap::{CurveGap, Gap};
-use super::workflow::{limit_text, Calibration, Round};
+use super::workflow::{Calibration, Round};
 use std::fmt::Write as _;
 
 pub(super) fn fmt_factor(f: f64) -> String {
@@ -84,16 +84,17 @@ pub(super) fn detection_rows(s: &mut String, limits: &[DetectionLimit]) {
          |---|---|---|---|---|---|\n",
     );
     for d in limits {
+        let t = d.texts();
         let _ = writeln!(
             s,
             "| {} | {} | {} | {} / {} | {} / {} | {:.0}% |",
             d.effect.name(),
-            limit_text(d.lower, d.searched.0),
-            limit_text(d.upper, d.searched.1),
-            limit_text(d.lower_4x_samples, d.searched.0),
-            limit_text(d.upper_4x_samples, d.searched.1),
-            limit_text(d.lower_half_sigma, d.searched.0),
-            limit_text(d.upper_half_sigma, d.searched.1),
+            t[0],
+            t[1],
+            t[2],
+            t[3],
+            t[4],
+            t[5],
             100.0 * d.simulated_share
         );
     }

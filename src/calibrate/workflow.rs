@@ -6,6 +6,7 @@
 use super::attribution::{
     attribute, detection_limit, Decision, DetectionLimit, EffectFit, Grid, SingleObservable,
 };
+pub use super::detection::limit_text;
 use super::effects::Effect;
 use super::gap::{gap, Gap, Prediction};
 use super::measured::{Geometry, MeasuredSet};
@@ -452,33 +453,18 @@ pub fn describe_decision(d: &Decision) -> String {
     }
 }
 
-/// "x0.42", or "beyond x0.125" when the searched range holds no detectable factor.
-pub fn limit_text(limit: Option<f64>, end: f64) -> String {
-    match limit {
-        Some(f) => format!("x{}", short_factor(f)),
-        None => format!("not within x{}", short_factor(end)),
-    }
-}
-
-fn short_factor(f: f64) -> String {
-    if (0.01..1000.0).contains(&f) {
-        format!("{f:.3}")
-    } else {
-        format!("{f:.2e}")
-    }
-}
-
 /// One line per effect: the smallest factors the data would have shown, each way.
 pub fn describe_limit(d: &DetectionLimit) -> String {
+    let t = d.texts();
     format!(
         "{}: shown below {} or above {} (with 4x the samples: {} / {}; with the measured \
          sigma halved: {} / {})",
         d.effect.name(),
-        limit_text(d.lower, d.searched.0),
-        limit_text(d.upper, d.searched.1),
-        limit_text(d.lower_4x_samples, d.searched.0),
-        limit_text(d.upper_4x_samples, d.searched.1),
-        limit_text(d.lower_half_sigma, d.searched.0),
-        limit_text(d.upper_half_sigma, d.searched.1),
+        t[0],
+        t[1],
+        t[2],
+        t[3],
+        t[4],
+        t[5],
     )
 }
