@@ -223,3 +223,80 @@ fn add_points(
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::calibrate::gap::TARGETS;
+
+    /// One omni curve from φ 0.2 to 0.5, σ_φ = 0.01.
+    fn measured() -> MeasuredSet {
+        MeasuredSet::parse(
+            "[[compression]]\ngeometry = \"omni\"\npressure_pa = [1e2, 1e5]\nphi = [0.2, 0.5]\n\
+             phi_sigma = 0.01\n",
+            "t",
+        )
+        .unwrap()
+    }
+
+    /// The measured line moved by `offset` at every target, and by `last` more at the last.
+    fn curve(offset: f64, last: f64) -> Vec<Prediction> {
+        let phi: Vec<f64> = (0..TARGETS)
+            .map(|k| {
+                let extra = if k == TARGETS - 1 { last } else { 0.0 };
+                0.2 + 0.3 * k as f64 / (TARGETS - 1) as f64 + offset + extra
+            })
+            .collect();
+        // Two identical seeds: no simulated scatter, so χ² is (Δφ / 0.01)² per target.
+        vec![Prediction::from_seeds(&[phi.clone(), phi])]
+    }
+
+    fn grid(effect: Effect, end: Vec<Prediction>) -> Grid {
+        let mut g = Grid::new(effect);
+        g.insert(0.0, curve(0.05, 0.0));
+        g.insert(8f64.ln(), end);
+        g
+    }
+
+    #[test]
+    fn a_weak_response_of_the_right_shape_can_still_close_the_gap_either_way() {
+        let m = measured();
+        let current = curve(0.05, 0.0);
+        // The model is 0.05 too loose: χ² (0.05 / 0.01)² = 25 at every target.
+        assert!((gap(&m, &current).chi2 / 25.0 - 1.0).abs() < 1e-9);
+        // A change of -0.05/32 (or +0.05/32: the sign is free) scaled by 32 closes it.
+        for change in [-0.05 / 32.0, 0.05 / 32.0] {
+            let g = grid(Effect::RollingStiffness, curve(0.05 + change, 0.0));
+            let best = optimistic_chi2(&m, &g, &current);
+            assert!(best < 1e-12, "change {change}: {best}");
+        }
+        // A change at the last target only leaves the other targets' 25 each.
+        let g = grid(Effect::RollingStiffness, curve(0.05, -0.01));
+        let floor = 25.0 * (TARGETS - 1) as f64 / TARGETS as f64;
+        let best = optimistic_chi2(&m, &g, &current);
+        assert!(best >= floor - 1e-9 && best < 25.0, "{best} vs {floor}");
+        // No change: the current model's own χ².
+        let g = grid(Effect::RollingStiffness, curve(0.05, 0.0));
+        assert!((optimistic_chi2(&m, &g, &current) - 25.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn only_effects_that_cannot_come_within_two_of_the_leader_are_pruned() {
+        let m = measured();
+        let current = curve(0.05, 0.0);
+        let grids = [
+            // The leader: its ×8 end matches the data.
+            grid(Effect::NormalDamping, curve(0.0, 0.0)),
+            // Weak but of the right shape: kept.
+            grid(Effect::SurfaceEnergy, curve(0.05 - 0.05 / 32.0, 0.0)),
+            // The wrong shape: pruned.
+            grid(Effect::RollingStiffness, curve(0.05, -0.01)),
+            // Right shape, but ×64 reaches only 0.05 − 64 × 0.0005 = 0.018 short: χ² 3.24 > 2.
+            grid(Effect::SlidingStiffness, curve(0.0495, 0.0)),
+        ];
+        assert_eq!(
+            pruned(&m, &grids, &current),
+            vec![Effect::RollingStiffness, Effect::SlidingStiffness]
+        );
+    }
+}

@@ -8,6 +8,7 @@ mod analysis;
 mod figures;
 mod laws;
 mod report;
+mod size_trend;
 pub mod store;
 mod tiers;
 mod verdicts;

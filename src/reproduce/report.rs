@@ -5,6 +5,7 @@
 use super::analysis::{reference, Family, SpeedResult};
 use super::figures;
 use super::laws::{speed_laws, Law, Laws};
+use super::size_trend;
 use super::store::CaseRecord;
 use super::verdicts::{self, sig, Claim};
 use super::{Study, StudyKind, Tier, CALIBRATED, UNMODIFIED};
@@ -324,6 +325,14 @@ fn study_section(s: &mut String, a: &Analysed, figures_dir: &str) {
     machines.dedup();
     if !machines.is_empty() {
         let _ = writeln!(s, "Ran on: {}.\n", machines.join("; "));
+    }
+    let trend_pressures: &[f64] = match st.kind {
+        StudyKind::QuasiStatic => &[1e2, 1e3, 1e4, 1e5],
+        StudyKind::Uni => &[1e2, 1e3, 1e4],
+        _ => &[],
+    };
+    if !trend_pressures.is_empty() {
+        s.push_str(&size_trend::size_trend_table(&a.families, trend_pressures));
     }
     for f in &a.families {
         let _ = writeln!(s, "### {} model, {} monomers\n", f.variant, f.monomers);

@@ -22,6 +22,9 @@ use std::path::{Path, PathBuf};
 /// Profiles kept per case besides the initial one: enough to follow a front through the
 /// sample (one every ~1.5 µm of wall travel in a 60 µm box).
 pub const PROFILES_KEPT: usize = 40;
+/// A run directory's own record of where it ran, read instead of the harvesting machine: a
+/// case started on a lent GPU and continued from its checkpoint on a CPU says so here.
+pub const MACHINE_FILE: &str = "machine.txt";
 /// Significant digits of the stored numbers.
 const DIGITS: usize = 6;
 
@@ -36,7 +39,8 @@ pub struct StoredCase {
     pub steps: u64,
     pub wall_clock_s: f64,
     pub stop: String,
-    /// The machine it ran on, as `dustdem bench` names it.
+    /// The machine it ran on, as `dustdem bench` names it; for a case run elsewhere or on
+    /// several machines, the run directory's `machine.txt` (see [`MACHINE_FILE`]).
     pub machine: String,
 }
 
@@ -159,6 +163,7 @@ pub fn harvest(runs: &Path, store: &Path, machine: &str) -> Result<usize, String
         let [speed, seed, variant, monomers] = &row.parameters;
         let bad = |what: &str, text: &str| format!("{}: cannot read {what} '{text}'", row.case);
         let run = runs.join(&row.case);
+        let ran_on = machine_of(&run, machine)?;
         std::fs::create_dir_all(&cases_dir).map_err(|e| format!("{}: {e}", cases_dir.display()))?;
         for (suffix, text) in [
             ("curve", curve_csv(&run)?),
@@ -176,7 +181,7 @@ pub fn harvest(runs: &Path, store: &Path, machine: &str) -> Result<usize, String
             steps: record.steps.unwrap_or(0),
             wall_clock_s: (record.wall_clock_s * 10.0).round() / 10.0,
             stop: record.stop.clone(),
-            machine: machine.to_string(),
+            machine: ran_on,
         });
         added += 1;
     }
@@ -187,6 +192,26 @@ pub fn harvest(runs: &Path, store: &Path, machine: &str) -> Result<usize, String
     write_atomic(&index_path(store), text.as_bytes())
         .map_err(|e| format!("{}: {e}", index_path(store).display()))?;
     Ok(added)
+}
+
+/// Where the run in `run` ran: its [`MACHINE_FILE`] (one line) if it has one, else `harvester`.
+fn machine_of(run: &Path, harvester: &str) -> Result<String, String> {
+    let path = run.join(MACHINE_FILE);
+    match std::fs::read_to_string(&path) {
+        Ok(text) => {
+            let line = text.trim();
+            if line.is_empty() || line.contains('\n') {
+                return Err(format!(
+                    "{}: expected one non-empty line naming the machine(s), found {:?}",
+                    path.display(),
+                    line
+                ));
+            }
+            Ok(line.to_string())
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(harvester.to_string()),
+        Err(e) => Err(format!("{}: {e}", path.display())),
+    }
 }
 
 /// Every case of the store, with its curve and profiles.
@@ -233,5 +258,26 @@ mod tests {
         assert_eq!(k.len(), PROFILES_KEPT + 1);
         assert_eq!((k[0], *k.last().unwrap()), (0, 1000));
         assert!(k.windows(2).all(|w| w[1] > w[0]));
+    }
+
+    #[test]
+    fn a_run_names_its_own_machines_in_machine_txt() {
+        let dir = std::env::temp_dir().join(format!("dustdem-machine-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        assert_eq!(machine_of(&dir, "harvester").unwrap(), "harvester");
+        std::fs::write(dir.join(MACHINE_FILE), "GPU to step 10, then CPU\n").unwrap();
+        assert_eq!(
+            machine_of(&dir, "harvester").unwrap(),
+            "GPU to step 10, then CPU"
+        );
+        std::fs::write(dir.join(MACHINE_FILE), " \n").unwrap();
+        let err = machine_of(&dir, "harvester").unwrap_err();
+        assert!(
+            err.contains("machine.txt") && err.contains("one non-empty line"),
+            "{err}"
+        );
+        std::fs::write(dir.join(MACHINE_FILE), "a\nb\n").unwrap();
+        assert!(machine_of(&dir, "harvester").is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }
