@@ -3,12 +3,16 @@
 //! the slab profile of `sample::slab_profile` and the energy report (to rounding: the same
 //! terms added in another order).
 
+use dustdem::backend::cpu::CpuEngine;
+use dustdem::config::Config;
+use dustdem::engine::Engine;
+use dustdem::experiment::compression::Compression;
 use dustdem::experiment::measure::projected_area;
 use dustdem::rng::Rng;
 use dustdem::sample::slab_profile;
 use dustdem::state::reduction::REDUCE_BLOCK;
 use dustdem::state::rows::{
-    row_area, row_profile, row_profile_final, row_raster, sphere_volume, Raster, Slabs,
+    row_area, row_profile, row_profile_final, row_raster, sphere_volume, Raster, RowRequest, Slabs,
 };
 use glam::DVec3;
 
@@ -55,4 +59,50 @@ fn the_profile_in_blocks_is_the_sequential_profile_to_rounding() {
     // Every monomer lies within the slabs: the volumes add up to N spheres.
     let total: f64 = volumes.iter().sum();
     assert!((total / (300.0 * sphere_volume(r)) - 1.0).abs() < 1e-12);
+}
+
+/// The state of a 300-monomer uni run (5 m/s) after 2000 steps: monomers moving and spinning,
+/// in contact with each other and with both plates.
+fn compressed_state() -> dustdem::state::State {
+    let text = "[sample]\nmonomers = 300\nfootprint = \"cylinder\"\nseed = 2\n[experiment]\n\
+                kind = \"uni\"\nwall_speed_m_s = 5.0\nphi_stop = 0.7\nmax_steps = 2000\n\
+                average_steps = 100\n[integration]\ndt_ns = 0.3\n";
+    let config = Config::parse(text, "test").unwrap();
+    let mut run = Compression::with_engine(&config, CpuEngine::new).unwrap();
+    run.run(&mut |_| Ok(())).unwrap();
+    run.engine.state().into_owned()
+}
+
+#[test]
+fn the_row_energies_are_the_energy_report_to_rounding() {
+    let state = compressed_state();
+    assert!(state.contacts.pair_contact_count() > 100 && state.contacts.wall_contact_count() > 10);
+    let row = state.row_measures(&RowRequest::default()).energy;
+    let report = state.energy();
+    let pairs = [
+        ("kinetic", row.kinetic, report.kinetic),
+        ("rotational", row.rotational, report.rotational),
+        (
+            "normal potential",
+            row.normal_potential,
+            report.normal_potential,
+        ),
+        (
+            "tangential potential",
+            row.tangential_potential,
+            report.tangential_potential,
+        ),
+    ];
+    for (what, ours, theirs) in pairs {
+        // Each term is nonzero here, so a term dropped or replaced by a constant shows.
+        assert!(theirs.abs() > 0.0, "{what} is zero in the report");
+        assert!(
+            (ours - theirs).abs() <= 1e-12 * theirs.abs(),
+            "{what}: row {ours:e}, report {theirs:e}"
+        );
+    }
+    assert_eq!(
+        (row.dissipated, row.wall_work),
+        (report.dissipated, report.wall_work)
+    );
 }
