@@ -129,12 +129,20 @@ pub fn attribute(m: &MeasuredSet, baseline: &Gap, grids: &[Grid]) -> (Vec<Effect
         .iter()
         .map(|g| {
             let (u, chi2, (lo, hi)) = g.minimum(m);
-            let ends = (
-                gap(m, &g.points[0].1).chi2,
-                gap(m, &g.points[g.points.len() - 1].1).chi2,
-            );
+            // Below factor 1 nothing may have been simulated (NaN: not run).
+            let lower_end = if g.lower_unsearched() {
+                f64::NAN
+            } else {
+                gap(m, &g.points[0].1).chi2
+            };
+            let ends = (lower_end, gap(m, &g.points[g.points.len() - 1].1).chi2);
             let (limit_lo, limit_hi, why) = g.effect.limits();
-            let bound = g.minimum_at_end(m).map(|upper| {
+            // A minimum at factor 1 with nothing searched below is no bound: χ² did not fall
+            // that way (or the effect was dropped), so the effect changes nothing for the better.
+            let at_end = g
+                .minimum_at_end(m)
+                .filter(|&upper| upper || !g.lower_unsearched());
+            let bound = at_end.map(|upper| {
                 let limit = if upper { limit_hi } else { limit_lo };
                 Bound {
                     upper,

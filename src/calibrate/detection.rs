@@ -2,7 +2,7 @@
 //! would show beyond noise, from the screened grid.
 
 use super::effects::Effect;
-use super::gap::{chi2_quantile_95, shift_chi2};
+use super::gap::{chi2_quantile_95, shift_chi2, Prediction};
 use super::grid::Grid;
 use super::measured::MeasuredSet;
 
@@ -10,7 +10,10 @@ use super::measured::MeasuredSet;
 /// config's model at 95%: the χ² of the model against such data, the noise at its expected
 /// value of one per curve, passes the 95% quantile of χ² with one degree per curve, i.e.
 /// n + λ(f) > χ²₉₅(n) with λ the noise-free shift ([`shift_chi2`]). Found on the screened
-/// grid (linear in ln factor); None where the searched range does not reach it.
+/// grid (linear in ln factor); None where the searched range does not reach it. Where
+/// nothing was simulated below factor 1 (the screen looks upwards), the lower limits mirror
+/// the upper response, −Δφ(−u) = Δφ(u), down to the screen's lower end or the mirror of the
+/// highest simulated factor, whichever is nearer: linear in ln factor, and marked so.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DetectionLimit {
     pub effect: Effect,
@@ -19,6 +22,8 @@ pub struct DetectionLimit {
     pub upper: Option<f64>,
     /// The searched range the limits were looked for in.
     pub searched: (f64, f64),
+    /// The lower limits mirror the upper response (nothing simulated below factor 1).
+    pub lower_mirrored: bool,
     /// The same with four times the simulated samples per curve (the simulation's noise
     /// variance / 4; four times the monomers per sample does about as much).
     pub lower_4x_samples: Option<f64>,
@@ -35,12 +40,18 @@ impl DetectionLimit {
     /// samples, lower and upper with the measured σ halved.
     pub fn texts(&self) -> [String; 6] {
         let (lo, hi) = self.searched;
+        let mirrored = if self.lower_mirrored {
+            " (mirrored)"
+        } else {
+            ""
+        };
+        let lower = |limit| limit_text(limit, lo) + mirrored;
         [
-            limit_text(self.lower, lo),
+            lower(self.lower),
             limit_text(self.upper, hi),
-            limit_text(self.lower_4x_samples, lo),
+            lower(self.lower_4x_samples),
             limit_text(self.upper_4x_samples, hi),
-            limit_text(self.lower_half_sigma, lo),
+            lower(self.lower_half_sigma),
             limit_text(self.upper_half_sigma, hi),
         ]
     }
@@ -67,13 +78,30 @@ pub fn detection_limit(m: &MeasuredSet, grid: &Grid) -> Option<DetectionLimit> {
     let reference = &grid.points.iter().find(|(u, _)| *u == 0.0)?.1;
     let n = reference.len();
     let threshold = chi2_quantile_95(n) - n as f64;
-    let (lo, hi) = grid.ends();
+    let mirrored = grid.lower_unsearched();
+    let (lo, hi) = if mirrored {
+        // No further down than the mirror of the highest simulated factor.
+        let hi = grid.ends().1;
+        (grid.effect.range().0.ln().max(-hi), hi)
+    } else {
+        grid.ends()
+    };
+    let at = |u: f64| -> Vec<Prediction> {
+        if u < 0.0 && mirrored {
+            let up = grid.interpolate(-u);
+            reference
+                .iter()
+                .zip(&up)
+                .map(|(r, p)| Prediction::blend(r, p, -1.0))
+                .collect()
+        } else {
+            grid.interpolate(u)
+        }
+    };
     let first = |end: f64, scale: (f64, f64)| -> Option<f64> {
         (1..=LIMIT_SCAN).find_map(|k| {
             let u = end * k as f64 / LIMIT_SCAN as f64;
-            let shift: f64 = shift_chi2(m, reference, &grid.interpolate(u), scale)
-                .iter()
-                .sum();
+            let shift: f64 = shift_chi2(m, reference, &at(u), scale).iter().sum();
             (shift > threshold).then(|| u.exp())
         })
     };
@@ -89,6 +117,7 @@ pub fn detection_limit(m: &MeasuredSet, grid: &Grid) -> Option<DetectionLimit> {
         lower: first(lo, (1.0, 1.0)),
         upper: first(hi, (1.0, 1.0)),
         searched: (lo.exp(), hi.exp()),
+        lower_mirrored: mirrored,
         lower_4x_samples: first(lo, (0.25, 1.0)),
         upper_4x_samples: first(hi, (0.25, 1.0)),
         lower_half_sigma: first(lo, (1.0, 0.25)),

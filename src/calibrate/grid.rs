@@ -63,6 +63,12 @@ impl Grid {
         (self.points[0].0, self.points[self.points.len() - 1].0)
     }
 
+    /// Nothing simulated below factor 1: the screen looks upwards only, and the search went
+    /// below 1 for this effect only if χ² fell that way.
+    pub fn lower_unsearched(&self) -> bool {
+        self.points.first().is_some_and(|(u, _)| *u == 0.0)
+    }
+
     /// χ² along the fine scan: (u, χ²).
     pub fn scan(&self, m: &MeasuredSet) -> Vec<(f64, f64)> {
         self.scan_curves(m, &|_| true)
@@ -126,8 +132,9 @@ impl Grid {
     }
 
     /// Where to widen the search: the next end (in u) beyond the one the minimum sits on,
-    /// twice as far from the config's value, up to the effect's limits; None when the minimum
-    /// is interior or the end already is the limit.
+    /// twice as far from the config's value (from factor 1 itself: the screen's end of the
+    /// range that way), up to the effect's limits; None when the minimum is interior or the
+    /// end already is the limit.
     pub fn widen_point(&self, m: &MeasuredSet) -> Option<f64> {
         if self.points.len() >= MAX_GRID {
             return None;
@@ -143,7 +150,17 @@ impl Grid {
         if (end - limit).abs() < 1e-9 {
             return None;
         }
-        let next = 2.0 * end;
+        // From factor 1 (a one-sided screen) the first step down is the screen's lower end.
+        let next = if end == 0.0 {
+            let (lo, hi) = self.effect.range();
+            if upper {
+                hi.ln()
+            } else {
+                lo.ln()
+            }
+        } else {
+            2.0 * end
+        };
         Some(if upper {
             next.min(limit)
         } else {

@@ -194,7 +194,8 @@ pub fn markdown(cal: &Calibration, measured: &str, config_path: &Path) -> String
             s.push_str(
                 "Each effect fitted alone (factor on the base value; interval: chi2 within +1; \
                  explained: share of the baseline chi2 removed; confidence: relative weight \
-                 exp(−chi2/2) among the effects; ends: chi2 at the ends of the plausible range).\n\n\
+                 exp(−chi2/2) among the effects; ends: chi2 at the ends of the plausible range, – where \
+                 the search did not go below factor 1).\n\n\
                  | effect | kind | factor | interval | value | chi2 | explained | confidence | chi2 at range ends | simulated factors |\n\
                  |---|---|---|---|---|---|---|---|---|---|\n",
             );
@@ -202,7 +203,7 @@ pub fn markdown(cal: &Calibration, measured: &str, config_path: &Path) -> String
             for f in &round.fits {
                 let _ = writeln!(
                     s,
-                    "| {} | {} | {}{} | {} – {} | {} | {:.2} | {:.1}% | {:.3} | {:.1} / {:.1} | {} |",
+                    "| {} | {} | {}{} | {} – {} | {} | {:.2} | {:.1}% | {:.3} | {} / {:.1} | {} |",
                     f.effect.name(),
                     f.effect.kind().name(),
                     match &f.bound {
@@ -216,7 +217,7 @@ pub fn markdown(cal: &Calibration, measured: &str, config_path: &Path) -> String
                     f.chi2,
                     100.0 * f.explained,
                     f.confidence,
-                    f.chi2_at_range_ends.0,
+                    lower_end_text(f.chi2_at_range_ends.0),
                     f.chi2_at_range_ends.1,
                     f.grid_factors
                         .iter()
@@ -383,6 +384,15 @@ pub fn write_plan(
 }
 
 /// How the calibration searched and what its runs cost.
+/// χ² at the lower range end, or "–" where the search never went below factor 1.
+fn lower_end_text(chi2: f64) -> String {
+    if chi2.is_nan() {
+        "–".into()
+    } else {
+        format!("{chi2:.1}")
+    }
+}
+
 fn search_text(cal: &Calibration) -> String {
     let n = cal.settings.seeds.len();
     let k = match cal.settings.screen_seeds {

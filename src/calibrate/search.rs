@@ -1,6 +1,7 @@
-//! The search of one round: screen every effect at the ends of its range, drop the effects
-//! that cannot come near the best one, widen the searched range where χ² still falls at an
-//! end, and refine the best candidates' minima.
+//! The search of one round: screen every effect at the upper end of its range, drop the
+//! effects that cannot come near the best one, widen the searched range where χ² still falls
+//! at an end (below factor 1 too, where the screen did not look), and refine the best
+//! candidates' minima.
 
 use super::attribution::Grid;
 use super::effects::Effect;
@@ -26,8 +27,12 @@ pub struct Current<'a> {
     pub predictions: &'a [Prediction],
 }
 
-/// Simulates every effect at the ends of its range (and the damping form switch at its
-/// factor 1, which is not the config's model).
+/// Simulates every effect at the upper end of its range (and the damping form switch at its
+/// factor 1, which is not the config's model). One end, not both: the pruning scales the
+/// screened change either way ([`optimistic_chi2`]), the detection limits below factor 1
+/// mirror it (linear in ln factor, and say so), and an effect whose χ² rises towards the
+/// upper end while it is still in the race is widened below 1 ([`Grid::widen_point`]) before
+/// it is fitted. The lower ends of the effects that are dropped are never simulated.
 pub fn screen(
     predictor: &mut Predictor,
     current: &Current,
@@ -42,9 +47,7 @@ pub fn screen(
         } else {
             points.push((g.effect, 1.0));
         }
-        let (lo, hi) = g.effect.range();
-        points.push((g.effect, lo));
-        points.push((g.effect, hi));
+        points.push((g.effect, g.effect.range().1));
     }
     add_points(predictor, &mut grids, &points, current, round, "screen")?;
     Ok(grids)
@@ -297,6 +300,55 @@ mod tests {
         assert_eq!(
             pruned(&m, &grids, &current),
             vec![Effect::RollingStiffness, Effect::SlidingStiffness]
+        );
+    }
+
+    #[test]
+    fn a_response_that_worsens_upwards_is_widened_below_factor_one() {
+        let m = measured();
+        // Screened upwards only: ×16 makes the model looser still.
+        let g = grid(Effect::RollingStiffness, curve(0.06, 0.0));
+        let g = Grid {
+            points: vec![g.points[0].clone(), (16f64.ln(), curve(0.06, 0.0))],
+            ..g
+        };
+        assert!(g.lower_unsearched());
+        assert_eq!(g.minimum_at_end(&m), Some(false));
+        assert!(g.end_still_falling(&m));
+        let down = g.widen_point(&m).expect("widen below 1");
+        assert!((down - (1.0f64 / 8.0).ln()).abs() < 1e-12, "{}", down.exp());
+    }
+
+    #[test]
+    fn detection_limits_below_one_mirror_the_screened_response_and_say_so() {
+        let m = measured();
+        let mut g = Grid::new(Effect::RollingStiffness);
+        g.insert(0.0, curve(0.0, 0.0));
+        g.insert(16f64.ln(), curve(0.05, 0.0));
+        let d = crate::calibrate::detection::detection_limit(&m, &g).unwrap();
+        // One curve: detectable once (Δφ / 0.01)² > χ²₉₅(1) − 1 (2.84; the approximation in
+        // gap.rs, checked against the table there, gives 2.76), with Δφ = 0.05 ln f / ln 16:
+        // f = 2.51 up and 1/2.51 down.
+        let q = crate::calibrate::gap::chi2_quantile_95(1);
+        let up = 16f64.powf(0.01 * (q - 1.0).sqrt() / 0.05);
+        let (upper, lower) = (d.upper.unwrap(), d.lower.unwrap());
+        assert!((upper / up - 1.0).abs() < 0.01, "{upper} vs {up}");
+        assert!((lower * up - 1.0).abs() < 0.01, "{lower} vs {}", 1.0 / up);
+        assert!(d.lower_mirrored);
+        assert!((d.searched.0 * 8.0 - 1.0).abs() < 1e-12, "{:?}", d.searched);
+        let texts = d.texts();
+        assert!(
+            texts[0].ends_with("(mirrored)") && !texts[1].contains("mirrored"),
+            "{texts:?}"
+        );
+        // A simulated lower end is used as it is.
+        g.insert((1.0f64 / 8.0).ln(), curve(-0.01, 0.0));
+        let d = crate::calibrate::detection::detection_limit(&m, &g).unwrap();
+        assert!(!d.lower_mirrored);
+        assert!(
+            d.lower.is_none(),
+            "−0.01 at ×1/8 stays below the limit: {:?}",
+            d.lower
         );
     }
 }
