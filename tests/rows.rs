@@ -74,10 +74,20 @@ fn compressed_state() -> dustdem::state::State {
 }
 
 #[test]
-fn the_row_energies_are_the_energy_report_to_rounding() {
+fn the_row_energies_and_extent_are_the_energy_report_and_the_measured_area() {
     let state = compressed_state();
     assert!(state.contacts.pair_contact_count() > 100 && state.contacts.wall_contact_count() > 10);
-    let row = state.row_measures(&RowRequest::default()).energy;
+    let measures = state.row_measures(&RowRequest {
+        slabs: None,
+        projected_area: true,
+    });
+    // The raster spans the extent the blocks reduce (least and greatest x, y of the centres).
+    let r = state.law.radius;
+    assert_eq!(
+        measures.projected_area,
+        Some(projected_area(&state.monomers.position, r))
+    );
+    let row = measures.energy;
     let report = state.energy();
     let pairs = [
         ("kinetic", row.kinetic, report.kinetic),

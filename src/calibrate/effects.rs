@@ -157,17 +157,20 @@ impl Effect {
             Effect::RollingStiffness | Effect::TwistingStiffness => (
                 1.0 / 64.0,
                 128.0,
-                "beyond x128 the mode is stiffer than the normal contact and the time step                  falls below a tenth of the base one; below x1/64 the mode is free",
+                "beyond x128 the mode is stiffer than the normal contact and the time step \
+                 falls below a tenth of the base one; below x1/64 the mode is free",
             ),
             Effect::SlidingStiffness => (
                 1.0 / 64.0,
                 16.0,
-                "beyond x16 the sliding mode is stiffer than the normal contact (k_s/k_n > 4)                  and the time step falls below a quarter; below x1/64 the mode is free",
+                "beyond x16 the sliding mode is stiffer than the normal contact (k_s/k_n > 4) \
+                 and the time step falls below a quarter; below x1/64 the mode is free",
             ),
             Effect::NormalDamping | Effect::DampingForm => (
                 1.0 / 1024.0,
                 4096.0,
-                "x4096 of the paper's kappa = 1e-6 g/s already sticks far above any measured                  micron-grain speed; below x1/1024 the damping does nothing a test can see",
+                "x4096 of the paper's kappa = 1e-6 g/s already sticks far above any measured \
+                 micron-grain speed; below x1/1024 the damping does nothing a test can see",
             ),
             Effect::SurfaceEnergy => (
                 0.5,
@@ -178,7 +181,8 @@ impl Effect {
             Effect::CriticalRollingLength => (
                 1.0 / 32.0,
                 64.0,
-                "xi_crit is measured between about 0.2 and 3 nm for micron silica; a factor 64                  of the paper's 2 nm is over 100 nm, a tenth of the radius",
+                "xi_crit is measured between about 0.2 and 3 nm for micron silica; a factor 64 \
+                 of the paper's 2 nm is over 100 nm, a tenth of the radius",
             ),
             Effect::YoungsModulus => (
                 0.25,

@@ -1,8 +1,9 @@
 //! When the answer may lie outside the effect library: the best effects tie, the best fit sits
 //! on a bound of its searched range, or the best fit leaves a gap beyond noise (a shape no
-//! effect matches), or the signal rests on one observable. Then the report names what the model itself suggests instead: the
-//! constants the effects' formulas share with others (a factor on one of them can stand for a
-//! change of the other), and the setup of the simulation.
+//! effect matches), or the signal rests on one observable. Then the report names what the
+//! model itself suggests instead: the constants the effects' formulas share with others (a
+//! factor on one of them can stand for a change of the other), and the setup of the
+//! simulation.
 
 use super::attribution::{Decision, EffectFit, Grid};
 use super::effects::Effect;

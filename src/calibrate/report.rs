@@ -194,8 +194,8 @@ pub fn markdown(cal: &Calibration, measured: &str, config_path: &Path) -> String
             s.push_str(
                 "Each effect fitted alone (factor on the base value; interval: chi2 within +1; \
                  explained: share of the baseline chi2 removed; confidence: relative weight \
-                 exp(−chi2/2) among the effects; ends: chi2 at the ends of the plausible range, – where \
-                 the search did not go below factor 1).\n\n\
+                 exp(−chi2/2) among the effects; ends: chi2 at the ends of the plausible \
+                 range, – where the search did not go below factor 1).\n\n\
                  | effect | kind | factor | interval | value | chi2 | explained | confidence | chi2 at range ends | simulated factors |\n\
                  |---|---|---|---|---|---|---|---|---|---|\n",
             );
@@ -358,8 +358,9 @@ pub fn plan_markdown(plan: &super::workflow::Plan, measured: &str, config_path: 
     );
     s.push_str(
         "The smallest change of each effect these data would show at 95%, from the baseline \
-         and a screen of every effect at the ends of its range (the measured φ values do not \
-         enter, only the pressures, the uncertainties and which curves there are):\n\n",
+         and a screen of every effect at the upper end of its range, mirrored below 1 (the \
+         measured φ values do not enter, only the pressures, the uncertainties and which \
+         curves there are):\n\n",
     );
     detection_rows(&mut s, &plan.detection);
     s.push_str("Noise per curve at the baseline:\n\n| curve | RMS noise |\n|---|---|\n");
