@@ -387,6 +387,21 @@ fn polish_leaders(
         }
         (fits, decision) = attribute(measured, before, grids);
     }
+    // The re-fits can reorder a tie: the chosen effect is polished too if it was not yet.
+    while let Some(effect) = decision.chosen() {
+        if polished.iter().any(|p| p.0 == effect) {
+            break;
+        }
+        let factor = fits
+            .iter()
+            .find(|f| f.effect == effect)
+            .expect("fitted")
+            .factor;
+        let grid = grids.iter_mut().find(|g| g.effect == effect).expect("grid");
+        let (run_factor, predictions) = polish(predictor, now, grid, factor, round)?;
+        polished.push((effect, run_factor, predictions));
+        (fits, decision) = attribute(measured, before, grids);
+    }
     // The chosen effect is applied at its fitted factor, simulated on every seed (4% off the
     // fit moved a damping correction's χ² from within noise to beyond it).
     if let Some(effect) = decision.chosen() {
