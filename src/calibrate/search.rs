@@ -47,7 +47,11 @@ pub fn screen(
         } else {
             points.push((g.effect, 1.0));
         }
-        points.push((g.effect, g.effect.range().1));
+        let (lo, hi) = g.effect.range();
+        if predictor.settings.both_ends {
+            points.push((g.effect, lo));
+        }
+        points.push((g.effect, hi));
     }
     add_points(predictor, &mut grids, &points, current, round, "screen")?;
     Ok(grids)

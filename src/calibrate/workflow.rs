@@ -28,6 +28,8 @@ pub struct Settings {
     /// Drop the effects that cannot come within Δχ² = 2 of the best one after the screen
     /// ([`super::search::pruned`]) instead of widening and refining them too.
     pub prune: bool,
+    /// Screen at both ends of each effect's range instead of the upper end only.
+    pub both_ends: bool,
     pub threads: usize,
     /// Effects added one after the other at most.
     pub max_rounds: usize,
@@ -50,6 +52,7 @@ impl Default for Settings {
             seeds: vec![1, 2, 3],
             screen_seeds: 1,
             prune: true,
+            both_ends: false,
             threads: std::thread::available_parallelism().map_or(2, |n| n.get()),
             max_rounds: 2,
             candidates: 3,

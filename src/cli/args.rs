@@ -104,6 +104,9 @@ pub(super) enum Command {
         /// best after the screen.
         #[arg(long)]
         no_prune: bool,
+        /// Screen every effect at both ends of its range, not at the upper end only.
+        #[arg(long)]
+        screen_both_ends: bool,
         /// Effects added one after the other at most.
         #[arg(long, default_value_t = 2)]
         rounds: usize,

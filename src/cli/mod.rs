@@ -63,6 +63,7 @@ pub fn main() -> ExitCode {
             seeds,
             screen_seeds,
             no_prune,
+            screen_both_ends,
             rounds,
             threads,
             plan,
@@ -82,6 +83,7 @@ pub fn main() -> ExitCode {
                 seeds,
                 screen_seeds,
                 prune: !no_prune,
+                both_ends: screen_both_ends,
                 max_rounds: rounds,
                 ..Settings::default()
             };
