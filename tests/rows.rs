@@ -16,16 +16,22 @@ use dustdem::state::rows::{
 };
 use glam::DVec3;
 
+/// The monomer radius [cm]: a radius other than 1 and a box off the origin, so that r² = r,
+/// r / r = 1 or x − x0 = x + x0 cannot pass for the right arithmetic.
+const R: f64 = 0.6e-4;
+
+/// `n` centres scattered over a box of 20 radii whose corner sits at (3, −5, 7) radii.
 fn scattered(n: usize, seed: u64) -> Vec<DVec3> {
     let mut rng = Rng::new(seed);
+    let corner = DVec3::new(3.0, -5.0, 7.0) * R;
     (0..n)
-        .map(|_| DVec3::new(rng.uniform(), rng.uniform(), rng.uniform()) * 20.0)
+        .map(|_| corner + DVec3::new(rng.uniform(), rng.uniform(), rng.uniform()) * 20.0 * R)
         .collect()
 }
 
 #[test]
 fn the_raster_counts_the_projected_area_as_the_measurement_does() {
-    let r = 1.0;
+    let r = R;
     for n in [1, 2, 63, 64, 65, 300] {
         let p = scattered(n, n as u64);
         let lo = p.iter().fold(p[0], |a, b| a.min(*b));
@@ -40,14 +46,16 @@ fn the_raster_counts_the_projected_area_as_the_measurement_does() {
 
 #[test]
 fn the_profile_in_blocks_is_the_sequential_profile_to_rounding() {
-    let r = 1.0;
+    let r = R;
     let p = scattered(300, 3);
     let z: Vec<f64> = p.iter().map(|p| p.z).collect();
-    let slabs = Slabs::between(-1.0, 22.0, 2.0 * r);
+    // Slabs from 6 radii (one below the lowest centre's bottom) to 29 radii.
+    let (bottom, top, area) = (6.0 * r, 29.0 * r, 400.0 * r * r);
+    let slabs = Slabs::between(bottom, top, 2.0 * r);
     let blocks = z.len().div_ceil(REDUCE_BLOCK);
     let volumes = row_profile_final(&row_profile(&z, r, &slabs), blocks, slabs.count);
-    let ours = slabs.profile(&volumes, 400.0);
-    let theirs = slab_profile(z.iter().copied(), r, 400.0, -1.0, 22.0, 2.0 * r);
+    let ours = slabs.profile(&volumes, area);
+    let theirs = slab_profile(z.iter().copied(), r, area, bottom, top, 2.0 * r);
     assert_eq!(ours.len(), theirs.len());
     for (a, b) in ours.iter().zip(&theirs) {
         assert_eq!(a.0, b.0);
