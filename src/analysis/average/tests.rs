@@ -162,3 +162,20 @@ fn unreached_grid_points_are_left_out_and_one_curve_has_no_spread() {
     assert!((auto[0].p - 10.0).abs() < 1e-9);
     assert!(auto.len() >= 15 && auto.last().unwrap().p <= 1.2e4);
 }
+
+#[test]
+fn rows_without_a_positive_finite_pressure_do_not_set_the_log_grid() {
+    let mut rng = Rng::new(4);
+    let mut curve = synthetic_curve(0.0, 1e4, &mut rng);
+    let clean = average_on_log_grid(std::slice::from_ref(&curve), 5);
+    // A zero, a negative, an infinite and a NaN pressure change nothing.
+    curve.insert(0, (0.0, 0.15));
+    curve.insert(1, (-5.0, 0.15));
+    curve.push((f64::INFINITY, 0.6));
+    curve.push((f64::NAN, 0.6));
+    let grid: Vec<f64> = average_on_log_grid(&[curve], 5)
+        .iter()
+        .map(|a| a.p)
+        .collect();
+    assert_eq!(grid, clean.iter().map(|a| a.p).collect::<Vec<_>>());
+}

@@ -129,3 +129,30 @@ fn one_seed_has_no_seed_error() {
     assert!(f.err.delta.is_nan() && f.err_log10_pm.is_nan());
     assert_eq!(f.err.phi1, 0.0);
 }
+
+#[test]
+fn a_row_without_pressure_at_the_crossing_gives_no_pressure() {
+    let mut run = run_of(&TRUTH, || 0.0, 43);
+    run.p_top_pa[10] = f64::NAN;
+    assert_eq!(
+        pressure_at_phi(&run, 0.2535),
+        None,
+        "row before the crossing"
+    );
+    let mut run = run_of(&TRUTH, || 0.0, 43);
+    run.p_top_pa[11] = f64::NAN;
+    assert_eq!(
+        pressure_at_phi(&run, 0.2535),
+        None,
+        "row after the crossing"
+    );
+}
+
+#[test]
+fn the_phi_grid_keeps_its_upper_end() {
+    // (0.7 − 0.16) / 0.01 is 53.99999999999999 in floating point: the end must survive it.
+    let grid = phi_grid(0.16, 0.7, 0.01);
+    assert_eq!(grid.len(), 55);
+    assert!((grid[54] - 0.7).abs() < 1e-12, "{}", grid[54]);
+    assert_eq!(phi_grid(0.2, 0.25, 0.1), vec![0.2]);
+}
