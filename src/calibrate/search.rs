@@ -311,11 +311,9 @@ mod tests {
     fn a_response_that_worsens_upwards_is_widened_below_factor_one() {
         let m = measured();
         // Screened upwards only: ×16 makes the model looser still.
-        let g = grid(Effect::RollingStiffness, curve(0.06, 0.0));
-        let g = Grid {
-            points: vec![g.points[0].clone(), (16f64.ln(), curve(0.06, 0.0))],
-            ..g
-        };
+        let mut g = Grid::new(Effect::RollingStiffness);
+        g.insert(0.0, curve(0.05, 0.0));
+        g.insert(16f64.ln(), curve(0.06, 0.0));
         assert!(g.lower_unsearched());
         assert_eq!(g.minimum_at_end(&m), Some(false));
         assert!(g.end_still_falling(&m));
