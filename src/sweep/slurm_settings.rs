@@ -36,15 +36,24 @@ impl Default for SlurmSettings {
     }
 }
 
+/// sbatch(1) on `--signal`: "due to the resolution of event handling by Slurm, the signal may
+/// be sent up to 60 seconds earlier than specified" (slurmctld checks limits every 30 s and
+/// sends the warning one check ahead).
+pub const SIGNAL_EARLY_BY_S: u64 = 60;
+
 /// Slurm's `@sig_time` is a 16-bit count of seconds.
 const MAX_SIGNAL_LEAD_S: u64 = 65_535;
 
 impl SlurmSettings {
-    /// The lead the script asks for: `signal_lead_s`, but at most half the time limit, so a
-    /// short limit (a test, a debug queue) still leaves the task time to work before it.
+    /// The lead the script asks for: `signal_lead_s`, but at most half of what the limit
+    /// leaves after [`SIGNAL_EARLY_BY_S`], so that even a short limit (a test, a debug queue)
+    /// gives every attempt time to work before the warning. A limit of a minute or less gets
+    /// no warning (0): it could come as the task starts, and a requeued task would then never
+    /// progress.
     pub fn effective_signal_lead_s(&self) -> u64 {
         let limit = slurm_time_seconds(&self.time).unwrap_or(u64::MAX);
-        self.signal_lead_s.min(limit / 2)
+        self.signal_lead_s
+            .min(limit.saturating_sub(SIGNAL_EARLY_BY_S) / 2)
     }
 }
 
@@ -209,15 +218,23 @@ mod tests {
     }
 
     #[test]
-    fn the_warning_comes_at_most_half_way_through_the_limit() {
+    fn the_warning_leaves_half_the_limit_even_when_it_comes_a_minute_early() {
         let mut s = SlurmSettings {
             time: "60".into(),
             signal_lead_s: 300,
             ..SlurmSettings::default()
         };
         assert_eq!(s.effective_signal_lead_s(), 300);
+        // 120 s: the warning asked 30 s ahead comes 30 to 90 s ahead, after 30 s of work.
         s.time = "2".into();
-        assert_eq!(s.effective_signal_lead_s(), 60);
+        assert_eq!(s.effective_signal_lead_s(), 30);
+        s.time = "2:01".into();
+        assert_eq!(s.effective_signal_lead_s(), 30);
+        // A minute or less: no warning, which could come at the start of every attempt.
+        s.time = "1".into();
+        assert_eq!(s.effective_signal_lead_s(), 0);
+        s.time = "0:30".into();
+        assert_eq!(s.effective_signal_lead_s(), 0);
         s.time = "1-0".into();
         s.signal_lead_s = 900;
         assert_eq!(s.effective_signal_lead_s(), 900);
