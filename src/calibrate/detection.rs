@@ -2,7 +2,7 @@
 //! would show beyond noise, from the screened grid.
 
 use super::effects::Effect;
-use super::gap::{chi2_quantile_95, shift_chi2, Prediction};
+use super::gap::{chi2_quantile_95, shift_chi2, PointNoise, Prediction};
 use super::grid::Grid;
 use super::measured::MeasuredSet;
 
@@ -105,13 +105,7 @@ pub fn detection_limit(m: &MeasuredSet, grid: &Grid) -> Option<DetectionLimit> {
             (shift > threshold).then(|| u.exp())
         })
     };
-    let noise = super::gap::noise(m, reference);
-    let points: Vec<_> = noise.iter().flatten().collect();
-    let simulated_share = points
-        .iter()
-        .map(|p| p.simulated / (p.simulated + p.measured))
-        .sum::<f64>()
-        / points.len().max(1) as f64;
+    let simulated_share = simulated_share(&super::gap::noise(m, reference));
     Some(DetectionLimit {
         effect: grid.effect,
         lower: first(lo, (1.0, 1.0)),
@@ -124,6 +118,18 @@ pub fn detection_limit(m: &MeasuredSet, grid: &Grid) -> Option<DetectionLimit> {
         upper_half_sigma: first(hi, (1.0, 0.25)),
         simulated_share,
     })
+}
+
+/// Mean share of the noise variance from the simulated samples, over the compared points
+/// that have a noise (a target pressure no seed reached has none).
+fn simulated_share(noise: &[Vec<PointNoise>]) -> f64 {
+    let shares: Vec<f64> = noise
+        .iter()
+        .flatten()
+        .map(|p| p.simulated / (p.simulated + p.measured))
+        .filter(|s| s.is_finite())
+        .collect();
+    shares.iter().sum::<f64>() / shares.len().max(1) as f64
 }
 
 /// "x0.42", or "beyond x0.125" when the searched range holds no detectable factor.
@@ -139,5 +145,26 @@ fn short_factor(f: f64) -> String {
         format!("{f:.3}")
     } else {
         format!("{f:.2e}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_simulated_share_skips_points_without_a_noise() {
+        let point = |simulated, measured| PointNoise {
+            simulated,
+            measured,
+        };
+        // 1/4 and 3/4 average to 1/2; an unreached target (NaN) and a noiseless point (0/0)
+        // are left out instead of turning the mean into NaN.
+        let noise = vec![
+            vec![point(1.0, 3.0), point(f64::NAN, 1.0)],
+            vec![point(3.0, 1.0), point(0.0, 0.0)],
+        ];
+        assert_eq!(simulated_share(&noise), 0.5);
+        assert_eq!(simulated_share(&[]), 0.0);
     }
 }
