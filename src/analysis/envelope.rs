@@ -54,3 +54,46 @@ impl Envelope {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Rows at φ = 0.1 + 0.01 k with the given pressures.
+    fn rows(pressures: &[f64]) -> Vec<(f64, f64)> {
+        pressures
+            .iter()
+            .enumerate()
+            .map(|(k, &p)| (0.1 + 0.01 * k as f64, p))
+            .collect()
+    }
+
+    #[test]
+    fn the_median_removes_a_spike_and_keeps_a_step_where_it_is() {
+        // 1 Pa for rows 0–19 with a 1 MPa spike at row 10, then 100 Pa for rows 20–39. Row k's
+        // window is rows k−4 … k+4 (fewer at the ends): it holds k−15 rows of 100 Pa, a majority
+        // from k = 20 on, so the step stays at row 20, and one spike is never a majority.
+        let mut p = vec![1.0; 20];
+        p[10] = 1e6;
+        p.extend([100.0; 20]);
+        let e = Envelope::from_rows(&rows(&p));
+        let expected: Vec<f64> = (0..40).map(|k| if k < 20 { 0.0 } else { 2.0 }).collect();
+        assert_eq!(e.log10_p, expected);
+        assert_eq!(e.phi.len(), 40);
+        // The first time the sample held 10 Pa: halfway (in log P) from row 19 to row 20.
+        assert!((e.phi_at(10.0) - (0.1 + 0.195)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn rows_without_pressure_sit_at_the_floor() {
+        // Zero (and negative) pressures count as 1e-10 Pa, not as log 0 = −∞.
+        let e = Envelope::from_rows(&rows(&[0.0; 12]));
+        assert_eq!(e.log10_p, vec![-10.0; 12]);
+        let e = Envelope::from_rows(&rows(&[-5.0; 3]));
+        assert_eq!(e.log10_p, vec![-10.0; 3]);
+        // Above the floor nothing was reached; at or below it, the first row's φ.
+        let e = Envelope::from_rows(&rows(&[0.0; 12]));
+        assert!(e.phi_at(1e-9).is_nan());
+        assert_eq!(e.phi_at(1e-11), 0.1);
+    }
+}

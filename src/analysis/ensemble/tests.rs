@@ -62,8 +62,46 @@ fn student_t_matches_the_tables() {
     assert!((student_t68(1) - 1.837).abs() < 1e-3);
     assert!((student_t68(2) - 1.321).abs() < 1e-3);
     assert!((student_t68(6) - 1.091).abs() < 1e-3);
-    assert_eq!(student_t68(100), 1.0);
     assert!(student_t68(0).is_nan());
+}
+
+/// P(0 < T < t) for Student's t with ν degrees of freedom, by Simpson's rule on its density
+/// (normalised by Γ((ν+1)/2)/Γ(ν/2), from 1/√π at ν = 1 and √π/2 at ν = 2 by Γ(x+1) = xΓ(x)).
+fn t_probability_below(t: f64, dof: usize) -> f64 {
+    let pi = std::f64::consts::PI;
+    let mut ratio = if dof % 2 == 1 {
+        1.0 / pi.sqrt()
+    } else {
+        pi.sqrt() / 2.0
+    };
+    let mut v = 2 - dof % 2;
+    while v < dof {
+        ratio *= (v + 1) as f64 / v as f64;
+        v += 2;
+    }
+    let nu = dof as f64;
+    let density = |x: f64| ratio / (nu * pi).sqrt() * (1.0 + x * x / nu).powf(-(nu + 1.0) / 2.0);
+    let n = 2000;
+    let h = t / n as f64;
+    let inner: f64 = (1..n)
+        .map(|k| if k % 2 == 1 { 4.0 } else { 2.0 } * density(k as f64 * h))
+        .sum();
+    (density(0.0) + inner + density(t)) * h / 3.0
+}
+
+#[test]
+fn student_t_holds_68_percent_at_every_dof() {
+    // Half of the two-sided 68.27 % (the normal ±1σ): erf(1/√2)/2 = 0.3413447.
+    let half = 0.341_344_746;
+    for dof in (1..=40).chain([50, 75, 100, 200, 1000]) {
+        let t = student_t68(dof);
+        // The table's 3 decimals move the probability by at most 5e-4 × density (< 0.25).
+        let tolerance = if dof < 10 { 1.3e-4 } else { 2e-5 };
+        let p = t_probability_below(t, dof);
+        assert!((p - half).abs() < tolerance, "dof {dof}: t {t}, P {p}");
+    }
+    // The normal limit.
+    assert!((student_t68(1_000_000) - 1.0).abs() < 1e-6);
 }
 
 /// Seeds differ by their own p_m and Δ (as samples do) and by row noise.
@@ -155,4 +193,71 @@ fn the_phi_grid_keeps_its_upper_end() {
     assert_eq!(grid.len(), 55);
     assert!((grid[54] - 0.7).abs() < 1e-12, "{}", grid[54]);
     assert_eq!(phi_grid(0.2, 0.25, 0.1), vec![0.2]);
+}
+
+#[test]
+fn held_filling_factors_are_held_and_free_ones_fitted() {
+    let runs = seed_runs(&mut Rng::new(3), 3);
+    let refs: Vec<&CurveTable> = runs.iter().collect();
+    let grid = phi_grid(0.16, 0.56, 0.01);
+    // Held away from the truth (0.15, 0.58), so a fit that frees them would move them.
+    let held = Held {
+        phi1: Some(0.12),
+        phi2: Some(0.62),
+    };
+    let f = fit_ensemble(&refs, &grid, held).unwrap();
+    assert_eq!(
+        (f.mean_fit.params.phi1, f.mean_fit.params.phi2),
+        (0.12, 0.62)
+    );
+    assert_eq!((f.err.phi1, f.err.phi2), (0.0, 0.0));
+    let free = Held {
+        phi1: Some(0.12),
+        phi2: None,
+    };
+    let f = fit_ensemble(&refs, &grid, free).unwrap();
+    assert_eq!(f.mean_fit.params.phi1, 0.12);
+    assert!(f.mean_fit.params.phi2 != 0.62 && f.err.phi2 > 0.0, "{f:?}");
+}
+
+#[test]
+fn points_without_pressure_are_left_out_of_a_fit() {
+    let run = run_of(&TRUTH, || 0.0, 43);
+    let grid = phi_grid(0.16, 0.56, 0.01);
+    let held = Held {
+        phi1: Some(0.15),
+        phi2: Some(0.58),
+    };
+    let points: Vec<(f64, f64)> = average_at_fixed_phi(&[&run], &grid)
+        .iter()
+        .map(|a| (a.p_mean, a.phi))
+        .collect();
+    let with_zeros: Vec<(f64, f64)> = points
+        .iter()
+        .copied()
+        .chain([(0.0, 0.3), (0.0, 0.4)])
+        .collect();
+    assert_eq!(
+        fit_points(&points, held).unwrap(),
+        fit_points(&with_zeros, held).unwrap()
+    );
+}
+
+#[test]
+fn a_seed_that_cannot_be_fitted_voids_the_seed_errors() {
+    // Three seeds; the third held no pressure at all (its own fit has no points), so the
+    // seed-to-seed spread of two fits is not the spread of three: no errors.
+    let mut runs = seed_runs(&mut Rng::new(4), 3);
+    runs[2].p_top_pa.iter_mut().for_each(|p| *p = 0.0);
+    let refs: Vec<&CurveTable> = runs.iter().collect();
+    let held = Held {
+        phi1: Some(0.15),
+        phi2: Some(0.58),
+    };
+    let f = fit_ensemble(&refs, &phi_grid(0.16, 0.56, 0.01), held).unwrap();
+    assert_eq!(f.seeds_fitted, 2);
+    assert!(f.err.delta.is_nan() && f.err_log10_pm.is_nan(), "{f:?}");
+    // The same two seeds alone have errors.
+    let two = fit_ensemble(&refs[..2], &phi_grid(0.16, 0.56, 0.01), held).unwrap();
+    assert!(two.err.delta > 0.0 && two.err_log10_pm > 0.0, "{two:?}");
 }
