@@ -2,7 +2,7 @@
 # Runs the test suite. Installs Mesa's software Vulkan driver (lavapipe) and the Vulkan loader
 # first when they are missing and apt is available, so GPU tests can run without a GPU; and
 # Slurm with MUNGE, for the test that runs a sweep's job array on a single-node Slurm it starts
-# itself (tests/sweep.rs; with CI set it fails rather than skips when they are missing).
+# itself (tests/sweep/; with CI set it fails rather than skips when they are missing).
 #
 # On Debian 12 lavapipe comes from bookworm-backports (Mesa 25) when that suite can be reached:
 # Mesa 22.3's lavapipe, the stock one, runs our compute shaders about three times slower (it

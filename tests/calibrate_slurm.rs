@@ -3,7 +3,7 @@
 //! when it finishes, and the report, the figure and the corrected config are byte-identical to
 //! a local calibration's. A second calibration over the filled cache submits nothing. The data:
 //! a sticking velocity synthesized with stronger damping (cheap runs, so the test is about the
-//! arrays, not the physics; `tests/calibrate.rs` holds the physics).
+//! arrays, not the physics; `tests/calibrate/` holds the physics).
 
 mod common;
 

@@ -1,6 +1,6 @@
 //! Every run config shipped in configs/ loads and passes validation, and so does every sweep
 //! file there (`sweep*.toml`, with every case's config); the measured-data files in
-//! configs/measured/ are checked by tests/calibrate.rs.
+//! configs/measured/ are checked by tests/calibrate/.
 
 use dustdem::config::Config;
 use dustdem::sweep::Sweep;

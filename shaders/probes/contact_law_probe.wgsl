@@ -1,7 +1,7 @@
 // requires: normal damping pointer rolling sliding twisting wall math
 //
 // Evaluates every contact-law function of shaders/model/ on one input record per invocation,
-// for the test that holds each to its Rust twin in src/model/ (tests/gpu_contact_law_probe.rs). Records are flat f64
+// for the test that holds each to its Rust twin in src/model/ (tests/gpu_contact_law_probe/). Records are flat f64
 // arrays read and written in sequence; the test reads and writes them in the same sequence.
 // Each output record starts with the number of values read and written, so a sequence that
 // drifts out of step with the host fails loudly instead of comparing the wrong numbers.

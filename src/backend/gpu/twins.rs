@@ -2,7 +2,7 @@
 //! function for function and constant for constant, and every entry point of
 //! `shaders/passes/` has a CPU function of the same name or is a GPU-only pass that a named
 //! test holds to the CPU's end state (DESIGN.md, "The twins"). These tests hold the two sides in
-//! step without a GPU; the probe test (tests/gpu_contact_law_probe.rs) and the per-pass parity
+//! step without a GPU; the probe test (tests/gpu_contact_law_probe/) and the per-pass parity
 //! tests (tests/gpu_passes.rs) hold their results in step on one.
 
 use super::layout;
