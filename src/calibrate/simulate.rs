@@ -97,6 +97,9 @@ pub struct RunCache {
     dir: Option<PathBuf>,
     /// Make missing runs as Slurm job arrays ([`super::slurm`]) before reading them here.
     slurm: Option<SlurmRuns>,
+    /// Only read the directory: a run it does not hold is an error, never simulated (a
+    /// report rebuilt from a committed cache).
+    read_only: bool,
     /// Runs this process simulated (not read back from disk or another process).
     made: AtomicUsize,
     /// Seconds each run this process simulated took (on its one thread), by key.
@@ -113,6 +116,14 @@ impl RunCache {
         RunCache {
             dir: Some(dir.to_path_buf()),
             ..Self::default()
+        }
+    }
+
+    /// A persistent cache that only reads `dir`: a missing run is an error, not a simulation.
+    pub fn read_only(dir: &Path) -> Self {
+        RunCache {
+            read_only: true,
+            ..Self::persistent(dir)
         }
     }
 
@@ -178,6 +189,13 @@ impl RunCache {
             let path = dir.join(format!("{:016x}.run", fnv1a64(key.as_bytes())));
             if let Some(out) = stored::read(&path, &key) {
                 return Ok(out);
+            }
+            if self.read_only {
+                return Err(format!(
+                    "{} is not in the run cache {} (read only: --cache-only)",
+                    run.describe(),
+                    dir.display()
+                ));
             }
             if self.slurm.is_some() {
                 // Its array task did not store it: say so rather than make it here.
@@ -446,6 +464,26 @@ mod tests {
             }
             assert!(stored::read(&path, "another key").is_none());
         }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_read_only_cache_reads_what_it_holds_and_refuses_the_rest() {
+        let dir = std::env::temp_dir().join(format!("dustdem-read-only-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let held = Run::Sticking(Config::default());
+        let mut other = Config::default();
+        other.sample.seed = 2;
+        let missing = Run::Sticking(other);
+        let path = RunCache::persistent(&dir).entry_path(&held).unwrap();
+        std::fs::write(&path, stored::write(&held.key(), &Output::Sticking(1.5))).unwrap();
+        let cache = RunCache::read_only(&dir);
+        assert_eq!(cache.get(&held), Ok(Output::Sticking(1.5)));
+        let err = cache.get(&missing).unwrap_err();
+        assert!(err.contains("not in the run cache"), "{err}");
+        // Nothing was simulated or written.
+        assert_eq!(cache.made(), 0);
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

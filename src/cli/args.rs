@@ -121,6 +121,10 @@ pub(super) enum Command {
         /// repeat them (default: OUT/run_cache).
         #[arg(long)]
         cache: Option<PathBuf>,
+        /// Only read the run cache: a run it does not hold is an error, never simulated
+        /// (rebuilds a report from a committed cache).
+        #[arg(long, conflicts_with = "slurm")]
+        cache_only: bool,
         /// Make each batch of runs a step needs as a Slurm job array over the run cache (one
         /// run per task; `sbatch --wait`), then go on; the result is the local calibration's.
         #[arg(long)]

@@ -17,13 +17,21 @@ pub(super) struct SlurmRequest {
     pub(super) max_running: u64,
 }
 
+/// How `calibrate` uses its run cache directory.
+pub(super) enum CacheUse {
+    /// Read what it holds, simulate and store the rest.
+    Fill(PathBuf),
+    /// Read only (`--cache-only`): a missing run is an error.
+    ReadOnly(PathBuf),
+}
+
 pub(super) fn calibrate(
     measured: &[PathBuf],
     config: &Path,
     out: &Path,
     settings: &Settings,
     plan: bool,
-    cache: &Path,
+    cache: &CacheUse,
     slurm: Option<SlurmRequest>,
 ) -> Result<(), String> {
     let _lock = lock_dir(out)?;
@@ -31,9 +39,10 @@ pub(super) fn calibrate(
     // once, after removing its locks.
     release_locks_on_signal();
     let progress = |line: &str| eprintln!("{line}");
-    let cache = match slurm {
-        None => RunCache::persistent(cache),
-        Some(r) => {
+    let cache = match (cache, slurm) {
+        (CacheUse::ReadOnly(cache), _) => RunCache::read_only(cache),
+        (CacheUse::Fill(cache), None) => RunCache::persistent(cache),
+        (CacheUse::Fill(cache), Some(r)) => {
             check_slurm_time(&r.time)?;
             let exe = std::env::current_exe()
                 .and_then(|e| e.canonicalize())

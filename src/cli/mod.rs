@@ -10,7 +10,7 @@ use crate::calibrate::synth::SynthSpec;
 use crate::calibrate::Settings;
 use crate::job::{Backend, PrivateRuntimeDir};
 use args::{Cli, Command, SweepAction};
-use calibration::{calibrate, calibrate_run, synth, SlurmRequest};
+use calibration::{calibrate, calibrate_run, synth, CacheUse, SlurmRequest};
 use clap::Parser;
 use commands::{
     bench, fit, generate, info, reproduce, resume, run, sweep, sweep_analyze, sweep_collect,
@@ -68,6 +68,7 @@ pub fn main() -> ExitCode {
             threads,
             plan,
             cache,
+            cache_only,
             slurm,
             slurm_time,
             slurm_mem_mb,
@@ -90,6 +91,10 @@ pub fn main() -> ExitCode {
             if let Some(t) = threads {
                 settings.threads = t;
             }
+            let cache = match cache_only {
+                true => CacheUse::ReadOnly(cache),
+                false => CacheUse::Fill(cache),
+            };
             calibrate(&measured, &config, &out, &settings, plan, &cache, slurm)
         }
         Command::CalibrateRun { cache, request } => calibrate_run(&cache, &request),
