@@ -1,0 +1,105 @@
+//! The committed real-data calibrations (docs/calibration/real/) rebuild byte for byte from
+//! their committed run cache: `dustdem calibrate --cache-only` reads every run from it (a run
+//! it lacks is an error, never simulated), so a change to the search, the fits, the decision
+//! or the report that would change a committed answer fails here until the reports are
+//! rebuilt (and the runs they need made) on purpose.
+
+mod common;
+
+use common::Scratch;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn repo(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
+}
+
+const MEASURED: [&str; 3] = [
+    "configs/measured/guettler2009_omni.toml",
+    "configs/measured/blum_schraepler2004_uni.toml",
+    "configs/measured/poppe2000_sticking.toml",
+];
+
+/// Each committed calibration: its directory, config, seeds, rounds, and whether it is a plan.
+const CASES: [(&str, &str, &str, &str, bool); 5] = [
+    (
+        "n1000_v0p5",
+        "configs/real_data_n1000_v0p5.toml",
+        "1,2,3,4,5,6",
+        "2",
+        false,
+    ),
+    (
+        "n1000_v0p5",
+        "configs/real_data_n1000_v0p5.toml",
+        "1,2,3,4,5,6",
+        "2",
+        true,
+    ),
+    (
+        "n1000_v0p25",
+        "configs/real_data_n1000_v0p25.toml",
+        "1,2,3,4,5,6",
+        "2",
+        false,
+    ),
+    (
+        "n1000_v0p5_paper_fix",
+        "configs/real_data_n1000_v0p5_paper_fix.toml",
+        "1,2,3",
+        "1",
+        false,
+    ),
+    (
+        "n1000_v0p5_viscoelastic",
+        "configs/real_data_n1000_v0p5_viscoelastic.toml",
+        "1,2,3",
+        "1",
+        false,
+    ),
+];
+
+#[test]
+fn the_committed_real_data_reports_rebuild_from_their_run_cache() {
+    let scratch = Scratch::new("real-calibration");
+    let cache = repo("docs/calibration/real/run_cache");
+    for (k, (dir, config, seeds, rounds, plan)) in CASES.into_iter().enumerate() {
+        let out = scratch.join(format!("{k}_{dir}"));
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_dustdem"));
+        cmd.current_dir(repo("")).arg("calibrate");
+        for m in MEASURED {
+            cmd.args(["--measured", m]);
+        }
+        cmd.args(["--config", config, "--seeds", seeds, "--rounds", rounds])
+            .arg("--out")
+            .arg(&out)
+            .arg("--cache")
+            .arg(&cache)
+            .arg("--cache-only");
+        if plan {
+            cmd.arg("--plan");
+        }
+        let result = cmd.output().unwrap();
+        assert!(
+            result.status.success(),
+            "{dir}: {}",
+            String::from_utf8_lossy(&result.stderr)
+        );
+        let committed = repo("docs/calibration/real").join(dir);
+        let mut compared = 0;
+        for entry in std::fs::read_dir(&out).unwrap() {
+            let path = entry.unwrap().path();
+            let name = path.file_name().unwrap();
+            let old = std::fs::read(committed.join(name))
+                .unwrap_or_else(|e| panic!("{dir}/{}: {e}", name.to_string_lossy()));
+            assert!(
+                std::fs::read(&path).unwrap() == old,
+                "{dir}/{} differs from its rebuild from the run cache",
+                name.to_string_lossy()
+            );
+            compared += 1;
+        }
+        let expected = if plan { 1 } else { 5 };
+        assert!(compared >= expected, "{dir}: {compared} files");
+    }
+}
