@@ -85,6 +85,22 @@ mod tests {
     }
 
     #[test]
+    fn the_median_window_is_centred_and_shrinks_at_the_ends() {
+        // log P = k on rows 0–19: row k's window is rows max(0, k−4) … min(19, k+4), and its
+        // median the value at start + len/2: 2, 3, 3, 4, 4, then k up to row 16, then 16, 17,
+        // 17 (the running maximum keeps 16 at row 17).
+        let p: Vec<f64> = (0..20).map(|k| 10f64.powi(k)).collect();
+        let e = Envelope::from_rows(&rows(&p));
+        let mut expected = vec![2.0, 3.0, 3.0, 4.0, 4.0];
+        expected.extend((5..=16).map(f64::from));
+        expected.extend([16.0, 17.0, 17.0]);
+        assert_eq!(e.log10_p.len(), expected.len());
+        for (k, (got, want)) in e.log10_p.iter().zip(&expected).enumerate() {
+            assert!((got - want).abs() < 1e-12, "row {k}: {got} vs {want}");
+        }
+    }
+
+    #[test]
     fn rows_without_pressure_sit_at_the_floor() {
         // Zero (and negative) pressures count as 1e-10 Pa, not as log 0 = −∞.
         let e = Envelope::from_rows(&rows(&[0.0; 12]));
