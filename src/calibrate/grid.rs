@@ -20,6 +20,11 @@ pub struct Grid {
     pub effect: Effect,
     /// (u = ln factor, predictions for every measured curve), sorted by u.
     pub points: Vec<(f64, Vec<Prediction>)>,
+    /// Screened points as simulated (before any gain correction), by u.
+    pub screened: Vec<(f64, Vec<Prediction>)>,
+    /// Where full (every-seed) predictions were made, and each one's (full, screened) pair.
+    pub full: Vec<f64>,
+    pub pairs: Vec<(Vec<Prediction>, Vec<Prediction>)>,
 }
 
 impl Grid {
@@ -27,6 +32,45 @@ impl Grid {
         Grid {
             effect,
             points: Vec::new(),
+            screened: Vec::new(),
+            full: Vec::new(),
+            pairs: Vec::new(),
+        }
+    }
+
+    /// A screened point, kept as simulated for the gain correction too.
+    pub fn insert_screened(&mut self, u: f64, predictions: Vec<Prediction>) {
+        self.screened.retain(|(x, _)| *x != u);
+        self.screened.push((u, predictions.clone()));
+        self.insert(u, predictions);
+    }
+
+    /// A full prediction at u, with the screened reading of the same runs: the screened
+    /// points between the ends are dropped (they would meet the full ones in a kink that the
+    /// interpolation reads as a sharp minimum, a falsely narrow interval), and those left are
+    /// rescaled by the gain of every pair so far ([`super::fidelity`]).
+    pub fn insert_full(
+        &mut self,
+        u: f64,
+        full: Vec<Prediction>,
+        screened: Vec<Prediction>,
+        current: &[Prediction],
+    ) {
+        self.insert(u, full.clone());
+        self.full.push(u);
+        self.pairs.push((full, screened));
+        let (lo, hi) = self.ends();
+        let full_at = &self.full;
+        self.points
+            .retain(|(x, _)| *x == lo || *x == hi || *x == 0.0 || full_at.contains(x));
+        let gains = super::fidelity::gains(current, &self.pairs);
+        for (x, original) in &self.screened {
+            if self.full.contains(x) {
+                continue;
+            }
+            if let Some(point) = self.points.iter_mut().find(|(y, _)| y == x) {
+                point.1 = super::fidelity::corrected(current, original, &gains);
+            }
         }
     }
 

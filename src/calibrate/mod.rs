@@ -12,6 +12,7 @@
 pub mod attribution;
 pub mod detection;
 pub mod effects;
+pub mod fidelity;
 pub mod figures;
 pub mod gap;
 pub mod grid;

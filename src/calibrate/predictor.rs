@@ -201,11 +201,42 @@ impl<'a> Predictor<'a> {
         current_predictions: &[Prediction],
         what: &str,
     ) -> Result<Vec<Vec<Prediction>>, String> {
-        let seeds = self.screen_seeds();
-        if seeds.len() == self.settings.seeds.len() {
+        if self.screen_seeds().len() == self.settings.seeds.len() {
             return self.predict(configs, what);
         }
-        let raw = self.simulate(configs, seeds, what, true)?;
+        self.screened(configs, current, current_predictions, what, true)
+    }
+
+    /// The screening prediction of a config that [`Predictor::predict`] has just run on every
+    /// seed: read from those runs (the screen seeds are among them), so it costs nothing and
+    /// is not counted. Set beside the full prediction it measures how far the screened
+    /// response is from the mean one ([`super::fidelity`]).
+    pub fn screened_view(
+        &mut self,
+        config: &Config,
+        current: &Config,
+        current_predictions: &[Prediction],
+    ) -> Result<Vec<Prediction>, String> {
+        let mut views = self.screened(
+            std::slice::from_ref(config),
+            current,
+            current_predictions,
+            "screened view",
+            false,
+        )?;
+        Ok(views.remove(0))
+    }
+
+    fn screened(
+        &mut self,
+        configs: &[Config],
+        current: &Config,
+        current_predictions: &[Prediction],
+        what: &str,
+        counted: bool,
+    ) -> Result<Vec<Vec<Prediction>>, String> {
+        let seeds = self.screen_seeds();
+        let raw = self.simulate(configs, seeds, what, counted)?;
         // Cache hits: `current` ran on every seed for its full prediction.
         let reference = self
             .simulate(std::slice::from_ref(current), seeds, what, false)?

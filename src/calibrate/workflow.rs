@@ -345,9 +345,11 @@ pub fn plan(
 type Polished = (Effect, f64, Vec<Prediction>);
 
 /// Fits and decides, with the leading effects' factors re-fitted on every seed: each effect
-/// within Δχ² = 2 of the best fit is polished ([`polish`]) and the fits redone, until the
-/// leaders have all been polished (at most `candidates` + 1 effects). With every seed
-/// screened only the chosen effect is re-run, at its fitted factor.
+/// within Δχ² = 2 of the best fit is run once on every seed at its fit ([`polish`], which
+/// rescales its screened points by the gain that run shows) and the fits redone, until the
+/// leaders have all been run (at most `candidates` + 1 effects); the chosen effect is then
+/// re-run at its fit while the fit moves by more than the refinement tolerance. With every
+/// seed screened only the chosen effect is re-run, at its fitted factor.
 fn polish_leaders(
     predictor: &mut Predictor,
     now: &Current,
@@ -385,24 +387,34 @@ fn polish_leaders(
         }
         for (effect, factor) in leaders.into_iter().take(limit - polished.len()) {
             let grid = grids.iter_mut().find(|g| g.effect == effect).expect("grid");
-            let (run_factor, predictions) = polish(predictor, now, grid, factor, round)?;
+            let (run_factor, predictions) = polish(predictor, now, grid, factor, round, 1)?;
             polished.push((effect, run_factor, predictions));
         }
         (fits, decision) = attribute(measured, before, grids);
     }
-    // The re-fits can reorder a tie: the chosen effect is polished too if it was not yet.
+    // The chosen effect (the re-fits can reorder a tie) is run at its fit until the fit stops
+    // moving; one run per pass, at most `refinements` passes.
+    let mut passes = 0;
     while let Some(effect) = decision.chosen() {
-        if polished.iter().any(|p| p.0 == effect) {
-            break;
-        }
-        let factor = fits
+        let fitted = fits
             .iter()
             .find(|f| f.effect == effect)
             .expect("fitted")
             .factor;
+        let at = polished.iter().position(|p| p.0 == effect);
+        let moved = at.is_none_or(|k| {
+            !screened_all && (fitted.ln() - polished[k].1.ln()).abs() > settings.refine_tolerance
+        });
+        if !moved || passes >= settings.refinements.max(1) {
+            break;
+        }
         let grid = grids.iter_mut().find(|g| g.effect == effect).expect("grid");
-        let (run_factor, predictions) = polish(predictor, now, grid, factor, round)?;
-        polished.push((effect, run_factor, predictions));
+        let (run_factor, predictions) = polish(predictor, now, grid, fitted, round, 1)?;
+        match at {
+            Some(k) => polished[k] = (effect, run_factor, predictions),
+            None => polished.push((effect, run_factor, predictions)),
+        }
+        passes += 1;
         (fits, decision) = attribute(measured, before, grids);
     }
     // The chosen effect is applied at its fitted factor, simulated on every seed (4% off the

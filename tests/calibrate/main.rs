@@ -68,6 +68,14 @@ fn search(s: Settings) -> Settings {
 
 fn quiet(_: &str) {}
 
+/// The calibration's progress lines on stderr with `DUSTDEM_TEST_PROGRESS=1` (what each step of
+/// the search requested), else nothing.
+fn progress(line: &str) {
+    if std::env::var_os("DUSTDEM_TEST_PROGRESS").is_some() && !line.contains("runs done") {
+        eprintln!("{line}");
+    }
+}
+
 /// Data from the test system with `effect` at `factor`, written to a file and read back: the
 /// calibration sees nothing but that file.
 fn synthetic(
@@ -99,7 +107,7 @@ fn synthetic(
 
 fn run_calibration(name: &str, measured: &MeasuredSet, settings: &Settings) -> Calibration {
     let start = Instant::now();
-    let cal = calibrate(measured, &base(), settings, cache(), &quiet).unwrap();
+    let cal = calibrate(measured, &base(), settings, cache(), &progress).unwrap();
     let before = cal.baseline_gap();
     let after = cal.final_gap();
     eprintln!(
