@@ -125,7 +125,7 @@ pub fn case_state(case: &Case, dir: &Path) -> Result<CaseState, String> {
     }
     let results = earlier_results(dir)?;
     match fs::read_to_string(dir.join(CONFIG_FILE)) {
-        Ok(text) if text == case.config_text => {}
+        Ok(text) if text == case.config_text || case.moved_here(&text) => {}
         Ok(_) => {
             return Err(format!(
                 "case {}: {} differs from the config the sweep file gives this case now (the \

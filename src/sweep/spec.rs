@@ -62,6 +62,20 @@ pub struct Case {
     pub config_text: String,
 }
 
+impl Case {
+    /// `text` is the case's config but for its output directory: the sweep directory was
+    /// moved (copied back from a cluster or a lent machine). Checkpoints name their outputs
+    /// relative to themselves, so the case continues where it now is; its `config.toml` is
+    /// rewritten when it runs.
+    pub fn moved_here(&self, text: &str) -> bool {
+        let Ok(mut there) = Config::parse(text, "a case's config.toml") else {
+            return false;
+        };
+        there.output.dir.clone_from(&self.config.output.dir);
+        toml::to_string(&there).is_ok_and(|t| t == self.config_text)
+    }
+}
+
 /// Collects problems, each naming the sweep file, the field, the value and what is allowed.
 pub(super) struct Problems<'a> {
     file: &'a str,
