@@ -25,6 +25,7 @@ mod report_tables;
 pub mod search;
 pub mod simulate;
 pub mod slurm;
+mod sticking;
 mod stored;
 pub mod synth;
 pub mod workflow;

@@ -8,10 +8,8 @@ use super::slurm::{run_batch, SlurmRuns};
 use super::stored;
 use crate::binary::fnv1a64;
 use crate::config::{Config, ExperimentKind, FootprintKind, SampleSource};
-use crate::experiment::collision::{analytic_sticking_speed, head_on_collision, Outcome};
 use crate::experiment::compression::{Compression, Event};
 use crate::job::reference_engine;
-use crate::material::normal_period_of;
 use crate::output::atomic::write_atomic;
 use crate::output::lock::{host_name, try_lock, Lock};
 use std::collections::HashMap;
@@ -19,20 +17,12 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 
+use super::sticking::sticking_threshold_m_s;
+pub use super::sticking::{STICKING_CAP, STICKING_TOLERANCE};
 pub use crate::analysis::envelope::{Envelope, MEDIAN_ROWS};
 /// Compressions stop at this multiple of the highest measured pressure: a single row above it
 /// stops the run, and the median-smoothed envelope must still reach the highest pressure.
 const PRESSURE_STOP_MARGIN: f64 = 10.0;
-/// Relative width to which sticking thresholds are bisected.
-pub const STICKING_TOLERANCE: f64 = 2e-3;
-/// Sticking thresholds are searched up to this speed [cm/s] and reported as this speed when the
-/// monomers still stick there: with strong viscoelastic damping (c ∝ a, the loss share grows
-/// with speed) a collision can be overdamped at every speed, and 30 m/s is far above any
-/// measured threshold of micron grains.
-pub const STICKING_CAP: f64 = 3000.0;
-/// Time steps per normal period in the sticking runs (the bisection resolves 0.2%).
-const STICKING_STEPS_PER_PERIOD: f64 = 2000.0;
-
 /// One simulation.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Run {
@@ -378,40 +368,6 @@ fn simulate(run: &Run) -> Result<Output, String> {
     }
 }
 
-/// Bisects the head-on sticking threshold [m/s]. The undamped JKR-loop speed is a lower
-/// bound (damping only adds loss), so the search starts below it and doubles upwards.
-fn sticking_threshold_m_s(config: &Config) -> Result<f64, String> {
-    let law = config.contact_law();
-    let dt = normal_period_of(law.mass, &law.pair) / STICKING_STEPS_PER_PERIOD;
-    let sticks = |v: f64| -> Result<bool, String> {
-        let r = head_on_collision(&law, v, dt, 5.0, reference_engine).map_err(|e| e.to_string())?;
-        Ok(r.outcome == Outcome::Stuck)
-    };
-    let mut lo = 0.5 * analytic_sticking_speed(&law);
-    if !sticks(lo)? {
-        return Err(format!(
-            "two monomers separate at {lo:.3e} cm/s, below the JKR sticking speed"
-        ));
-    }
-    let mut hi = (2.0 * lo).min(STICKING_CAP);
-    while sticks(hi)? {
-        if hi >= STICKING_CAP {
-            return Ok(STICKING_CAP * 1e-2);
-        }
-        lo = hi;
-        hi = (2.0 * hi).min(STICKING_CAP);
-    }
-    while hi - lo > STICKING_TOLERANCE * lo {
-        let mid = 0.5 * (lo + hi);
-        if sticks(mid)? {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    Ok(0.5 * (lo + hi) * 1e-2)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -485,14 +441,5 @@ mod tests {
         assert_eq!(cache.made(), 0);
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
         std::fs::remove_dir_all(&dir).unwrap();
-    }
-
-    #[test]
-    fn undamped_sticking_threshold_is_the_jkr_speed() {
-        let mut c = Config::default();
-        c.model.damping = crate::model::Damping::None;
-        let v = sticking_threshold_m_s(&c).unwrap();
-        let analytic = analytic_sticking_speed(&c.contact_law()) * 1e-2;
-        assert!((v / analytic - 1.0).abs() < 0.01, "{v} vs {analytic}");
     }
 }
