@@ -153,54 +153,38 @@ pub fn refine(
     Ok(())
 }
 
-/// Full predictions (every seed) of an effect at `factor`, up to `passes` times: each run is
-/// added to the grid, the screened points left are rescaled by the gain between the full and
-/// the screened response ([`Grid::insert_full`]), and the minimum is re-fitted; the next pass
-/// runs there unless it moved by less than the refinement tolerance (in ln factor). Returns
-/// the last factor simulated on every seed and its predictions; with every seed screened that
-/// is the fitted factor, simulated once.
+/// Full predictions (every seed) of an effect at `factor`, added to its grid; with a screen
+/// on fewer seeds the screened points left are rescaled by the gain between the full and the
+/// screened response ([`Grid::insert_full`]). Returns the factor and its predictions.
 pub fn polish(
     predictor: &mut Predictor,
     current: &Current,
     grid: &mut Grid,
     factor: f64,
     round: usize,
-    passes: usize,
 ) -> Result<(f64, Vec<Prediction>), String> {
-    let settings = predictor.settings;
-    let measured = predictor.measured;
-    let screened_all = predictor.screens_every_seed();
-    let mut u = factor.ln();
-    let passes = if screened_all { 1 } else { passes.max(1) };
-    let mut last = None;
-    for _ in 0..passes {
-        let what = if grid.full.is_empty() {
-            format!("round {round}: re-run with {}", grid.effect.name())
-        } else {
-            format!(
-                "round {round}: re-fit {} of {}",
-                grid.full.len() + 1,
-                grid.effect.name()
-            )
-        };
-        let config = grid.effect.apply(current.config, u.exp());
-        let full = predictor
-            .predict(std::slice::from_ref(&config), &what)?
-            .remove(0);
-        if screened_all {
-            grid.insert(u, full.clone());
-        } else {
-            let screened = predictor.screened_view(&config, current.config, current.predictions)?;
-            grid.insert_full(u, full.clone(), screened, current.predictions);
-        }
-        last = Some((u.exp(), full));
-        let (next, _, _) = grid.minimum(measured);
-        if screened_all || (next - u).abs() <= settings.refine_tolerance {
-            break;
-        }
-        u = next;
+    let what = if grid.full.is_empty() {
+        format!("round {round}: re-run with {}", grid.effect.name())
+    } else {
+        format!(
+            "round {round}: re-fit {} of {}",
+            grid.full.len() + 1,
+            grid.effect.name()
+        )
+    };
+    // The grid holds u = ln factor: the run is made at exp(u), so point and run agree exactly.
+    let u = factor.ln();
+    let config = grid.effect.apply(current.config, u.exp());
+    let full = predictor
+        .predict(std::slice::from_ref(&config), &what)?
+        .remove(0);
+    if predictor.screens_every_seed() {
+        grid.insert(u, full.clone());
+    } else {
+        let screened = predictor.screened_view(&config, current.config, current.predictions)?;
+        grid.insert_full(u, full.clone(), screened, current.predictions);
     }
-    Ok(last.expect("at least one pass"))
+    Ok((u.exp(), full))
 }
 
 fn add_points(

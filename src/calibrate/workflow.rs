@@ -387,7 +387,7 @@ fn polish_leaders(
         }
         for (effect, factor) in leaders.into_iter().take(limit - polished.len()) {
             let grid = grids.iter_mut().find(|g| g.effect == effect).expect("grid");
-            let (run_factor, predictions) = polish(predictor, now, grid, factor, round, 1)?;
+            let (run_factor, predictions) = polish(predictor, now, grid, factor, round)?;
             polished.push((effect, run_factor, predictions));
         }
         (fits, decision) = attribute(measured, before, grids);
@@ -409,7 +409,7 @@ fn polish_leaders(
             break;
         }
         let grid = grids.iter_mut().find(|g| g.effect == effect).expect("grid");
-        let (run_factor, predictions) = polish(predictor, now, grid, fitted, round, 1)?;
+        let (run_factor, predictions) = polish(predictor, now, grid, fitted, round)?;
         match at {
             Some(k) => polished[k] = (effect, run_factor, predictions),
             None => polished.push((effect, run_factor, predictions)),
