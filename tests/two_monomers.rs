@@ -49,6 +49,27 @@ fn sticking_threshold_equals_the_jkr_loop_energy_balance() {
     assert!(rel.abs() < 3e-5);
 }
 
+/// The collision's step budget covers a slow approach: the monomers start 0.05 δ₀ apart, and at
+/// 1% of the sticking speed closing that gap takes thousands of steps. With no oscillation
+/// period added to the budget (`periods` 0) they must still touch (a positive overlap) and stay
+/// stuck, far below the threshold.
+#[test]
+fn a_slow_approach_reaches_contact_within_the_step_budget() {
+    let law = undamped();
+    let v = 0.01 * reference_undamped_threshold();
+    let dt = 1e-12;
+    let approach_steps = 0.05 * printed::DELTA0 / v / dt;
+    assert!(approach_steps > 1000.0, "{approach_steps}");
+    let r = head_on_collision(&law, v, dt, 0.0, CpuEngine::new).unwrap();
+    assert!(
+        r.max_overlap > 0.0,
+        "{:?} after {} steps",
+        r.max_overlap,
+        r.steps
+    );
+    assert_eq!(r.outcome, Outcome::Stuck);
+}
+
 /// Threshold increase over the undamped one for a damping law, from the engine and from the
 /// independent 1-D reference (RK4, 2 ps), each bisected to 1e-6 relative; the engine at 1 ps.
 fn threshold_increase(damping: Damping, reference: printed::Damping1d, guess: f64) -> (f64, f64) {
