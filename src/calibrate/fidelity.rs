@@ -17,7 +17,7 @@ pub const GAIN_LIMITS: (f64, f64) = (0.25, 4.0);
 /// every (full, screened) pair, Δ from `current`; targets a prediction missed (NaN) are left
 /// out. 1 for a sticking curve (its screen is already full) and where the screened response
 /// is exactly zero; clamped to [`GAIN_LIMITS`].
-pub fn gains(current: &[Prediction], pairs: &[(Vec<Prediction>, Vec<Prediction>)]) -> Vec<f64> {
+pub fn gains(current: &[Prediction], pairs: &[(&[Prediction], &[Prediction])]) -> Vec<f64> {
     (0..current.len())
         .map(|c| {
             let (mut num, mut den) = (0.0, 0.0);
@@ -94,7 +94,7 @@ mod tests {
         // g = (0.01·0.013 + 0.02·0.024) / (0.01² + 0.02²) = 0.00061 / 0.0005 = 1.22.
         let screened = vec![curve(&[0.21, 0.32, f64::NAN]), sticking(2.0)];
         let full = vec![curve(&[0.213, 0.324, 0.90]), sticking(3.0)];
-        let g = gains(&current, &[(full, screened)]);
+        let g = gains(&current, &[(&full, &screened)]);
         assert!((g[0] - 1.22).abs() < 1e-12, "{g:?}");
         assert_eq!(g[1], 1.0, "a sticking curve keeps its screen");
     }
@@ -103,12 +103,17 @@ mod tests {
     fn pairs_pool_and_a_silent_or_contrary_screen_is_not_trusted() {
         let current = vec![curve(&[0.2, 0.3])];
         let pair = |s: f64, f: f64| (vec![curve(&[0.2 + f, 0.3])], vec![curve(&[0.2 + s, 0.3])]);
+        let g_of = |pairs: &[(Vec<Prediction>, Vec<Prediction>)]| {
+            let refs: Vec<(&[Prediction], &[Prediction])> =
+                pairs.iter().map(|(f, s)| (&f[..], &s[..])).collect();
+            gains(&current, &refs)
+        };
         // Two pairs: (0.01 → 0.02) and (0.03 → 0.03): g = (0.0002 + 0.0009) / (0.0001 + 0.0009).
-        let g = gains(&current, &[pair(0.01, 0.02), pair(0.03, 0.03)]);
+        let g = g_of(&[pair(0.01, 0.02), pair(0.03, 0.03)]);
         assert!((g[0] - 1.1).abs() < 1e-12, "{g:?}");
-        assert_eq!(gains(&current, &[pair(0.0, 0.05)]), vec![1.0]);
-        assert_eq!(gains(&current, &[pair(0.01, 0.2)]), vec![GAIN_LIMITS.1]);
-        assert_eq!(gains(&current, &[pair(0.01, -0.01)]), vec![GAIN_LIMITS.0]);
+        assert_eq!(g_of(&[pair(0.0, 0.05)]), vec![1.0]);
+        assert_eq!(g_of(&[pair(0.01, 0.2)]), vec![GAIN_LIMITS.1]);
+        assert_eq!(g_of(&[pair(0.01, -0.01)]), vec![GAIN_LIMITS.0]);
     }
 
     #[test]

@@ -22,9 +22,9 @@ pub struct Grid {
     pub points: Vec<(f64, Vec<Prediction>)>,
     /// Screened points as simulated (before any gain correction), by u.
     pub screened: Vec<(f64, Vec<Prediction>)>,
-    /// Where full (every-seed) predictions were made, and each one's (full, screened) pair.
-    pub full: Vec<f64>,
-    pub pairs: Vec<(Vec<Prediction>, Vec<Prediction>)>,
+    /// Full (every-seed) predictions made by the polish: (u, full, the screened reading of
+    /// the same runs).
+    pub full: Vec<(f64, Vec<Prediction>, Vec<Prediction>)>,
 }
 
 impl Grid {
@@ -34,7 +34,6 @@ impl Grid {
             points: Vec::new(),
             screened: Vec::new(),
             full: Vec::new(),
-            pairs: Vec::new(),
         }
     }
 
@@ -57,15 +56,16 @@ impl Grid {
         current: &[Prediction],
     ) {
         self.insert(u, full.clone());
-        self.full.push(u);
-        self.pairs.push((full, screened));
+        self.full.push((u, full, screened));
+        let full_at: Vec<f64> = self.full.iter().map(|(x, _, _)| *x).collect();
         let (lo, hi) = self.ends();
-        let full_at = &self.full;
         self.points
             .retain(|(x, _)| *x == lo || *x == hi || *x == 0.0 || full_at.contains(x));
-        let gains = super::fidelity::gains(current, &self.pairs);
+        let pairs: Vec<(&[Prediction], &[Prediction])> =
+            self.full.iter().map(|(_, f, s)| (&f[..], &s[..])).collect();
+        let gains = super::fidelity::gains(current, &pairs);
         for (x, original) in &self.screened {
-            if self.full.contains(x) {
+            if full_at.contains(x) {
                 continue;
             }
             if let Some(point) = self.points.iter_mut().find(|(y, _)| y == x) {
