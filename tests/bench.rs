@@ -8,6 +8,7 @@ use common::printed::{
     XI_CRIT, ZETA_CRIT,
 };
 use common::Scratch;
+use dustdem::bench::prepare::{compressed_engine, gap_filling_factor, state_file};
 use dustdem::bench::{benchmark_config, benchmark_engine, lammps};
 use std::process::Command;
 
@@ -194,7 +195,7 @@ fn a_small_run_writes_both_tables() {
     assert!(result.status.success(), "{stderr}");
     let md = std::fs::read_to_string(out.join("bench.md")).unwrap();
     assert!(
-        md.contains("| N | contacts/monomer | cpu, 1 thread | cpu, all"),
+        md.contains("| N | sample | φ | contacts/monomer | cpu, 1 thread | cpu, all"),
         "{md}"
     );
     assert!(md.contains("| 200 |"), "{md}");
@@ -271,4 +272,97 @@ fn lammps_runs_the_deck_where_it_is_installed() {
     let run = lammps::parse_log(&log).unwrap();
     assert_eq!(run.atoms, 200);
     assert!(run.contacts_per_monomer.unwrap() > 0.5, "{run:?}");
+}
+
+fn pool() -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap()
+}
+
+#[test]
+fn a_compressed_sample_reaches_its_filling_factor_and_is_stored_and_reused() {
+    let dir = Scratch::new("bench-prepare");
+    let config = benchmark_config(200).unwrap();
+    let fresh = gap_filling_factor(&benchmark_engine(&config).unwrap().0);
+    let quiet = |_: &str| {};
+    let first = compressed_engine(&config, 0.2, 2.0, &pool(), &dir, &quiet).unwrap();
+    let phi = gap_filling_factor(&first.engine);
+    // One check every 200 steps of 3 nm wall travel: the target is passed by less than 0.005.
+    assert!(
+        fresh < 0.16 && (0.2..0.205).contains(&phi),
+        "fresh {fresh}, prepared {phi}"
+    );
+    assert!(first.steps > 0 && !first.reused);
+    assert_eq!(first.file, state_file(&dir, 200, 0.2, 2.0));
+    // The measurement's wall runs at the benchmark's 1 m/s whatever the preparation's speed.
+    // (The state is stored with the preparation's 2 m/s.)
+    assert_eq!(first.engine.walls[1].velocity.z, -100.0);
+    let again = compressed_engine(&config, 0.2, 2.0, &pool(), &dir, &quiet).unwrap();
+    assert!(again.reused && again.steps == 0);
+    assert_eq!(again.engine.walls[1].velocity.z, -100.0);
+    assert_eq!(
+        again.engine.monomers.position,
+        first.engine.monomers.position
+    );
+    assert_eq!(again.engine.step, first.engine.step);
+}
+
+#[test]
+fn a_denser_target_continues_from_a_stored_one_to_the_same_bits() {
+    let (direct, chained) = (Scratch::new("bench-direct"), Scratch::new("bench-chained"));
+    let config = benchmark_config(200).unwrap();
+    let quiet = |_: &str| {};
+    let a = compressed_engine(&config, 0.21, 2.0, &pool(), &direct, &quiet).unwrap();
+    let low = compressed_engine(&config, 0.18, 2.0, &pool(), &chained, &quiet).unwrap();
+    let b = compressed_engine(&config, 0.21, 2.0, &pool(), &chained, &quiet).unwrap();
+    assert_eq!(
+        b.steps,
+        a.steps - low.steps,
+        "the second target starts where the first ended"
+    );
+    assert_eq!(b.engine.step, a.engine.step);
+    assert_eq!(b.engine.monomers.position, a.engine.monomers.position);
+    assert_eq!(b.engine.monomers.velocity, a.engine.monomers.velocity);
+    // A state prepared at another speed is not taken.
+    let other = compressed_engine(&config, 0.21, 1.0, &pool(), &chained, &quiet).unwrap();
+    assert!(!other.reused && other.steps > b.steps);
+}
+
+#[test]
+fn a_compressed_state_exports_its_positions_velocities_and_walls() {
+    let dir = Scratch::new("bench-export-state");
+    let config = benchmark_config(200).unwrap();
+    let quiet = |_: &str| {};
+    let p = compressed_engine(&config, 0.2, 1.0, &pool(), &dir.join("states"), &quiet).unwrap();
+    lammps::export_state(&config, &p.engine.state, &dir).unwrap();
+    let text = std::fs::read_to_string(dir.join(lammps::DATA)).unwrap();
+    let section = |name: &str| -> Vec<Vec<f64>> {
+        let start = text.lines().position(|l| l.starts_with(name)).unwrap();
+        text.lines()
+            .skip(start + 2)
+            .take_while(|l| !l.is_empty())
+            .map(|l| l.split_whitespace().map(|w| w.parse().unwrap()).collect())
+            .collect()
+    };
+    let (atoms, velocities) = (section("Atoms"), section("Velocities"));
+    assert_eq!((atoms.len(), velocities.len()), (200, 200));
+    let s = &p.engine.state;
+    for i in [0, 77, 199] {
+        assert_eq!(atoms[i][4..7], s.monomers.position[i].to_array());
+        assert_eq!(velocities[i][0], (i + 1) as f64);
+        assert_eq!(velocities[i][1..4], s.synchronized_velocity(i).to_array());
+        assert_eq!(
+            velocities[i][4..7],
+            s.synchronized_angular_velocity(i).to_array()
+        );
+    }
+    // The deck's top wall starts where the compressed state's is and moves at 1 m/s.
+    let deck = std::fs::read_to_string(dir.join(lammps::DECK)).unwrap();
+    let region = deck.lines().find(|l| l.starts_with("region top")).unwrap();
+    let top: f64 = region.split_whitespace().nth(5).unwrap().parse().unwrap();
+    // The deck writes ten significant digits.
+    let z = s.walls[1].point.z;
+    assert!((top - z).abs() <= 1e-9 * z, "{region}: {z}");
 }

@@ -14,10 +14,11 @@ pub mod lammps;
 pub mod measure;
 pub mod memory;
 pub mod options;
+pub mod prepare;
 pub mod stats;
 pub mod table;
 
-pub use options::{Options, Threads};
+pub use options::{Options, SampleState, Threads};
 
 use crate::backend::cpu::CpuEngine;
 use crate::backend::gpu::context::{GpuContext, Requirements};
@@ -78,6 +79,10 @@ pub struct Report {
 #[derive(Clone, Debug)]
 pub struct SizeResult {
     pub n: usize,
+    /// The state the measurement started from before its warm-up.
+    pub sample: SampleState,
+    /// Filling factor by the wall gap at the measured starting state.
+    pub phi: f64,
     /// Steps run before the measured state (dustdem's warm-up; LAMMPS runs as many first).
     pub warmup_steps: u64,
     /// 2 × pair contacts / N of the measured starting state.
@@ -185,9 +190,11 @@ pub fn run_bench(options: &Options, progress: &dyn Fn(&str)) -> Result<Report, S
         lammps,
     };
     for &n in &options.sizes {
-        let result = measure_size(n, options, &sides, &setup, &mut report, progress)?;
-        report.sizes.push(result);
-        write_tables(&report)?;
+        for &sample in &options.samples {
+            let result = measure_size(n, sample, options, &sides, &setup, &mut report, progress)?;
+            report.sizes.push(result);
+            write_tables(&report)?;
+        }
     }
     if options.sizes.is_empty() {
         write_tables(&report)?;
@@ -212,6 +219,7 @@ pub fn write_tables(report: &Report) -> Result<Vec<PathBuf>, String> {
 
 fn measure_size(
     n: usize,
+    sample: SampleState,
     options: &Options,
     sides: &[Side],
     setup: &Setup,
@@ -220,14 +228,19 @@ fn measure_size(
 ) -> Result<SizeResult, String> {
     let peak_rss_per_size = memory::reset_peak();
     let config = benchmark_config(n)?;
-    let (mut engine, sample, walls) = benchmark_engine(&config)?;
-    let lammps_dir = options.out.join("lammps").join(format!("n{n}"));
-    if options.lammps {
-        std::fs::create_dir_all(&lammps_dir)
-            .map_err(|e| format!("{}: {e}", lammps_dir.display()))?;
-        lammps::export(&config, &sample, &walls, &lammps_dir)?;
-    }
-    drop(sample);
+    let lammps_dir = options.out.join("lammps").join(match sample {
+        SampleState::Fresh => format!("n{n}"),
+        SampleState::Compressed { .. } => format!("n{n}_{}", sample.key()),
+    });
+    let mut engine = prepare::starting_engine(
+        &config,
+        sample,
+        options,
+        &setup.warm_pool,
+        &lammps_dir,
+        &mut report.notes,
+        progress,
+    )?;
 
     // Warm-up past the first contact changes (the top wall meeting the sample, the first
     // contacts breaking), on all threads: a tenth of a measurement, at least 20 steps.
@@ -242,7 +255,7 @@ fn measure_size(
     let warmup_steps = probed + rest;
     let start = engine;
     // The same run with the monomers in the sample's order, warmed up by the same steps.
-    let sample_order_start = if options.sample_order {
+    let sample_order_start = if options.sample_order && sample == SampleState::Fresh {
         let mut config = config.clone();
         config.integration.space_filling_order = false;
         let (mut engine, _, _) = benchmark_engine(&config)?;
@@ -252,12 +265,15 @@ fn measure_size(
         None
     };
     let start_of = |kind: &SideKind| match kind {
-        SideKind::CpuSampleOrder(_) => sample_order_start.as_ref().expect("built above"),
+        SideKind::CpuSampleOrder(_) => sample_order_start.as_ref().expect("checked below"),
         _ => &start,
     };
     let contacts_per_monomer = 2.0 * start.contacts.pair_contact_count() as f64 / n as f64;
+    let phi = prepare::gap_filling_factor(&start);
     progress(&format!(
-        "N = {n}: warmed up {warmup_steps} steps, {contacts_per_monomer:.2} contacts per monomer"
+        "N = {n}, {}: warmed up {warmup_steps} steps, φ {phi:.3}, {contacts_per_monomer:.2} \
+         contacts per monomer",
+        sample.label()
     ));
 
     // Steps per side, from each side's own probe.
@@ -265,6 +281,10 @@ fn measure_size(
     let mut gpu_engine: Option<GpuEngine> = None;
     for (i, side) in sides.iter().enumerate() {
         let r = &mut results[i];
+        if matches!(side.kind, SideKind::CpuSampleOrder(_)) && sample_order_start.is_none() {
+            r.skipped = Some("measured on the fresh sample only".into());
+            continue;
+        }
         let probed = match side.kind {
             SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) => {
                 let pool = setup.pools[i].as_ref().expect("a pool per cpu side");
@@ -398,6 +418,8 @@ fn measure_size(
     drop(gpu_engine);
     Ok(SizeResult {
         n,
+        sample,
+        phi,
         warmup_steps,
         contacts_per_monomer,
         sides: results,

@@ -15,6 +15,38 @@ pub const THREADS_MAX: usize = 1024;
 /// MPI ranks of the LAMMPS runs: the ratios compare one rank with one thread and two ranks
 /// with all threads.
 pub const LAMMPS_RANKS: [usize; 2] = [1, 2];
+/// Filling factors a compressed benchmark sample may be brought to: above every fresh RBD
+/// sample's (≈ 0.12–0.15), and no denser than the omni curves reach at 1 m/s in reasonable time.
+pub const PHI_RANGE: (f64, f64) = (0.16, 0.6);
+/// Top wall speeds [m/s] that compress a benchmark sample to its filling factor: from the
+/// paper's quasi-static 1 cm/s to its fastest dynamic compression.
+pub const PREPARE_SPEED_RANGE: (f64, f64) = (0.01, 25.0);
+
+/// The state a benchmark starts from: the fresh RBD sample, or that sample compressed by the
+/// engine itself until the wall gap's filling factor reaches `phi`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SampleState {
+    Fresh,
+    Compressed { phi: f64 },
+}
+
+impl SampleState {
+    /// Table cell: `fresh` or `compressed to 0.30`.
+    pub fn label(&self) -> String {
+        match self {
+            SampleState::Fresh => "fresh".into(),
+            SampleState::Compressed { phi } => format!("compressed to {phi:.2}"),
+        }
+    }
+
+    /// File-name and csv key: `fresh` or `phi0.300`.
+    pub fn key(&self) -> String {
+        match self {
+            SampleState::Fresh => "fresh".into(),
+            SampleState::Compressed { phi } => format!("phi{phi:.3}"),
+        }
+    }
+}
 
 /// A thread count of the CPU engine: a number, or every core the machine offers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -47,6 +79,11 @@ pub struct Options {
     /// Also time the CPU engine on all threads with the monomers in the sample's order, to
     /// show what the space-filling storage order gains.
     pub sample_order: bool,
+    /// The starting states measured at every N, in order.
+    pub samples: Vec<SampleState>,
+    /// Top wall speed [m/s] that compresses the compressed states (the measurement itself
+    /// runs at 1 m/s).
+    pub prepare_speed_m_s: f64,
     pub out: PathBuf,
 }
 
@@ -60,6 +97,8 @@ impl Default for Options {
             gpu: true,
             lammps: false,
             sample_order: false,
+            samples: vec![SampleState::Fresh],
+            prepare_speed_m_s: 1.0,
             out: PathBuf::from("bench"),
         }
     }
@@ -104,9 +143,51 @@ impl Options {
             gpu,
             lammps,
             sample_order: false,
+            samples: vec![SampleState::Fresh],
+            prepare_speed_m_s: 1.0,
             out,
         })
     }
+
+    /// Sets the starting states (`--samples fresh,0.3,0.45`) and the speed that prepares the
+    /// compressed ones (`--prepare-speed`, m/s), checking both.
+    pub fn with_samples(mut self, samples: &str, prepare_speed_m_s: f64) -> Result<Self, String> {
+        self.samples = parse_samples(samples)?;
+        let (lo, hi) = PREPARE_SPEED_RANGE;
+        if !(prepare_speed_m_s.is_finite() && (lo..=hi).contains(&prepare_speed_m_s)) {
+            return Err(format!(
+                "--prepare-speed {prepare_speed_m_s}: out of range; allowed {lo} to {hi} m/s"
+            ));
+        }
+        self.prepare_speed_m_s = prepare_speed_m_s;
+        Ok(self)
+    }
+}
+
+fn parse_samples(text: &str) -> Result<Vec<SampleState>, String> {
+    let (lo, hi) = PHI_RANGE;
+    let mut samples = Vec::new();
+    for item in list(text) {
+        let state = match item {
+            "fresh" => SampleState::Fresh,
+            _ => match item.parse::<f64>() {
+                Ok(phi) if phi.is_finite() && (lo..=hi).contains(&phi) => {
+                    SampleState::Compressed { phi }
+                }
+                _ => {
+                    return Err(format!(
+                        "--samples {text}: `{item}` is not allowed; each entry is `fresh` or a \
+                         filling factor from {lo} to {hi}"
+                    ))
+                }
+            },
+        };
+        if samples.iter().any(|s: &SampleState| s.key() == state.key()) {
+            return Err(format!("--samples {text}: `{item}` is listed twice"));
+        }
+        samples.push(state);
+    }
+    Ok(samples)
 }
 
 fn list(text: &str) -> impl Iterator<Item = &str> {
@@ -221,5 +302,34 @@ mod tests {
         );
         let e = Options::parse("100", 1.0, 0, "1", "cpu", false, "b".into()).unwrap_err();
         assert!(e.contains("--rounds 0") && e.contains("1 to 100"), "{e}");
+    }
+
+    #[test]
+    fn sample_states_are_checked_and_kept_in_order() {
+        let o = parse("100", "1", "cpu").unwrap();
+        let o = o.with_samples("0.45, fresh,0.3", 5.0).unwrap();
+        assert_eq!(
+            o.samples,
+            [
+                SampleState::Compressed { phi: 0.45 },
+                SampleState::Fresh,
+                SampleState::Compressed { phi: 0.3 }
+            ]
+        );
+        assert_eq!(o.prepare_speed_m_s, 5.0);
+        assert_eq!(o.samples[0].key(), "phi0.450");
+        assert_eq!(o.samples[2].label(), "compressed to 0.30");
+        let o = parse("100", "1", "cpu").unwrap();
+        for (samples, speed, words) in [
+            ("0.15", 1.0, ["--samples 0.15", "0.16 to 0.6"]),
+            ("0.61", 1.0, ["`0.61`", "0.16 to 0.6"]),
+            ("loose", 1.0, ["`loose`", "`fresh`"]),
+            ("0.3,0.30", 1.0, ["`0.30`", "twice"]),
+            ("0.3", 0.005, ["--prepare-speed 0.005", "0.01 to 25 m/s"]),
+            ("0.3", f64::NAN, ["--prepare-speed NaN", "0.01 to 25 m/s"]),
+        ] {
+            let e = o.clone().with_samples(samples, speed).unwrap_err();
+            assert!(e.contains(words[0]) && e.contains(words[1]), "{e}");
+        }
     }
 }

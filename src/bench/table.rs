@@ -3,7 +3,7 @@
 use super::measure::{Side, SideKind};
 use super::options::Threads;
 use super::stats::{loglog_slope, median, range, round_ratios};
-use super::{Report, SideResult, SizeResult};
+use super::{Report, SampleState, SideResult, SizeResult};
 use std::fmt::Write;
 
 /// A ratio of two sides' rates, taken per round.
@@ -48,11 +48,13 @@ fn ratios(size: &SizeResult, spec: &RatioSpec) -> Vec<f64> {
     )
 }
 
-/// Least-squares slope of ln(cost per step) against ln N for side `i` over the sizes it ran.
+/// Least-squares slope of ln(cost per step) against ln N for side `i` over the sizes it ran
+/// on the fresh sample.
 pub fn cost_slope(report: &Report, i: usize) -> Option<f64> {
     let points: Vec<(f64, f64)> = report
         .sizes
         .iter()
+        .filter(|s| s.sample == SampleState::Fresh)
         .filter_map(|s| {
             let rate = median(&s.sides[i].rates)?;
             Some((s.n as f64, s.n as f64 / rate))
@@ -114,7 +116,12 @@ pub fn markdown(report: &Report) -> String {
         ));
     }
     line("");
-    let mut head = vec!["N".to_string(), "contacts/monomer".to_string()];
+    let mut head = vec![
+        "N".to_string(),
+        "sample".into(),
+        "φ".into(),
+        "contacts/monomer".into(),
+    ];
     head.extend(report.sides.iter().map(|s| s.label.clone()));
     head.extend(specs.iter().map(|r| r.label.clone()));
     head.push("peak RSS MiB (process)".into());
@@ -133,6 +140,8 @@ pub fn markdown(report: &Report) -> String {
     for size in &report.sizes {
         let mut row = vec![
             size.n.to_string(),
+            size.sample.label(),
+            format!("{:.3}", size.phi),
             format!("{:.2}", size.contacts_per_monomer),
         ];
         row.extend(size.sides.iter().map(rate_cell));
@@ -149,7 +158,12 @@ pub fn markdown(report: &Report) -> String {
         line(&format!("| {} |", row.join(" | ")));
     }
     line("");
-    let sizes: Vec<String> = report.sizes.iter().map(|s| s.n.to_string()).collect();
+    let sizes: Vec<String> = report
+        .sizes
+        .iter()
+        .filter(|s| s.sample == SampleState::Fresh)
+        .map(|s| s.n.to_string())
+        .collect();
     let slopes: Vec<String> = report
         .sides
         .iter()
@@ -157,13 +171,17 @@ pub fn markdown(report: &Report) -> String {
         .map(|(i, side)| format!("{} {}", side.label, opt(cost_slope(report, i), 2)))
         .collect();
     line(&format!(
-        "**Cost per step ∝ N^slope** (least squares of ln(N / rate) on ln N over N = {}): {}.",
+        "**Cost per step ∝ N^slope** (least squares of ln(N / rate) on ln N over the fresh \
+         samples, N = {}): {}.",
         sizes.join(", "),
         slopes.join("; ")
     ));
     line("");
     line(
-        "Contacts/monomer: 2 × pair contacts / N of dustdem's starting state. Peak RSS: the \
+        "Sample: the fresh RBD sample, or that sample compressed by dustdem until the wall \
+         gap's filling factor reached the value (the notes say at which speed); φ: by the wall \
+         gap at the measured start, after the warm-up. Contacts/monomer: 2 × pair contacts / N \
+         of dustdem's starting state. Peak RSS: the \
          whole process while that N ran (all dustdem engines and copies of the state; a GPU \
          engine on a software adapter keeps its buffers in it too). LAMMPS contacts/monomer: \
          overlapping pairs at the end of its one-rank runs (LAMMPS does not count JKR contacts \
@@ -188,14 +206,19 @@ pub fn markdown(report: &Report) -> String {
             }
         ));
         line("");
-        line(&format!("| N | {} |", names.join(" | ")));
-        line(&format!("|---|{}", "---|".repeat(names.len())));
+        line(&format!("| N | sample | {} |", names.join(" | ")));
+        line(&format!("|---|---|{}", "---|".repeat(names.len())));
         for size in &report.sizes {
             let passes = &size.sides[i].passes;
             let cells: Vec<String> = (0..names.len())
                 .map(|k| opt(passes.get(k).map(|s| s * 1e6), 1))
                 .collect();
-            line(&format!("| {} | {} |", size.n, cells.join(" | ")));
+            line(&format!(
+                "| {} | {} | {} |",
+                size.n,
+                size.sample.label(),
+                cells.join(" | ")
+            ));
         }
     }
     if !report.notes.is_empty() {
@@ -213,6 +236,8 @@ pub fn markdown(report: &Report) -> String {
 pub fn csv_header(report: &Report) -> Vec<String> {
     let mut h = vec![
         "n".to_string(),
+        "sample".into(),
+        "phi".into(),
         "warmup_steps".into(),
         "contacts_per_monomer".into(),
     ];
@@ -275,6 +300,8 @@ pub fn csv(report: &Report) -> String {
     for size in &report.sizes {
         let mut row = vec![
             size.n.to_string(),
+            size.sample.key(),
+            format!("{:.4}", size.phi),
             size.warmup_steps.to_string(),
             format!("{:.4}", size.contacts_per_monomer),
         ];

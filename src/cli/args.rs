@@ -175,6 +175,15 @@ pub(super) enum Command {
         /// order instead of the space-filling order, to show what that order gains.
         #[arg(long)]
         sample_order: bool,
+        /// Starting states, comma-separated: `fresh` (the RBD sample) and filling factors
+        /// (0.16 to 0.6) the engine first compresses the sample to, e.g. `fresh,0.3,0.45`;
+        /// compressed states are stored under <out>/states and reused.
+        #[arg(long, default_value = "fresh")]
+        samples: String,
+        /// Top wall speed [m/s] that compresses the compressed states (0.01 to 25); the
+        /// measurement itself runs at 1 m/s.
+        #[arg(long, default_value_t = 1.0)]
+        prepare_speed: f64,
         #[arg(long, default_value = "bench")]
         out: PathBuf,
     },

@@ -235,18 +235,7 @@ pub(super) fn info(config: Option<PathBuf>, monomers: Option<usize>) -> Result<(
     Ok(())
 }
 
-pub(super) fn bench(
-    sizes: &str,
-    seconds: f64,
-    rounds: usize,
-    threads: &str,
-    backends: &str,
-    lammps: bool,
-    sample_order: bool,
-    out: PathBuf,
-) -> Result<(), String> {
-    let mut options = BenchOptions::parse(sizes, seconds, rounds, threads, backends, lammps, out)?;
-    options.sample_order = sample_order;
+pub(super) fn bench(options: BenchOptions) -> Result<(), String> {
     let progress = |line: &str| eprintln!("{line}");
     let report = run_bench(&options, &progress)?;
     for path in write_tables(&report)? {

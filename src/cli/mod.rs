@@ -6,6 +6,7 @@ mod calibration;
 mod commands;
 mod progress;
 
+use crate::bench::Options as BenchOptions;
 use crate::calibrate::synth::SynthSpec;
 use crate::calibrate::Settings;
 use crate::job::{Backend, PrivateRuntimeDir};
@@ -106,17 +107,12 @@ pub fn main() -> ExitCode {
             backends,
             lammps,
             sample_order,
+            samples,
+            prepare_speed,
             out,
-        } => bench(
-            &sizes,
-            seconds,
-            rounds,
-            &threads,
-            &backends,
-            lammps,
-            sample_order,
-            out,
-        ),
+        } => BenchOptions::parse(&sizes, seconds, rounds, &threads, &backends, lammps, out)
+            .and_then(|o| o.with_samples(&samples, prepare_speed))
+            .and_then(|o| bench(BenchOptions { sample_order, ..o })),
         Command::Sweep {
             action: Some(SweepAction::Collect { dir }),
             ..

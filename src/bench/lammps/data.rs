@@ -11,9 +11,12 @@ pub struct Bounds {
 }
 
 /// The data file's text. Positions carry 17 significant digits, so they read back exactly.
+/// `velocities` (vx vy vz ωx ωy ωz per monomer, cm/s and rad/s), where given, become the
+/// `Velocities` section.
 pub fn data_file(
     title: &str,
     positions: &[[f64; 3]],
+    velocities: Option<&[[f64; 6]]>,
     radius: f64,
     density: f64,
     bounds: Bounds,
@@ -46,6 +49,16 @@ pub fn data_file(
             p[1],
             p[2]
         );
+    }
+    if let Some(velocities) = velocities {
+        let _ = writeln!(s);
+        // atom_style sphere: atom-ID vx vy vz wx wy wz.
+        let _ = writeln!(s, "Velocities");
+        let _ = writeln!(s);
+        for (i, v) in velocities.iter().enumerate() {
+            let cells: Vec<String> = v.iter().map(|x| format!("{x:.16e}")).collect();
+            let _ = writeln!(s, "{} {}", i + 1, cells.join(" "));
+        }
     }
     s
 }
