@@ -70,6 +70,53 @@ fn a_slow_approach_reaches_contact_within_the_step_budget() {
     assert_eq!(r.outcome, Outcome::Stuck);
 }
 
+/// An undamped head-on collision at twice the sticking speed. At the deepest overlap the
+/// relative motion stops, so the work against the JKR force up to it, ∫₀^δmax F dδ (the
+/// printed law's quadrature), is the relative kinetic energy ½ (m/2) v²; and the monomers leave
+/// with that energy less the loop energy, ½ (m/2) v_s², so v_out = √(v² − v_s²) = √3 v_s.
+#[test]
+fn an_undamped_bounce_turns_at_the_energy_balance_and_leaves_without_the_loop_energy() {
+    let law = undamped();
+    let v_s = reference_undamped_threshold();
+    let v = 2.0 * v_s;
+    let r = head_on_collision(&law, v, 1e-12, 5.0, CpuEngine::new).unwrap();
+    let stored = printed::jkr_potential(r.max_overlap, printed::F_C, printed::DELTA0);
+    let kinetic = printed::MASS * v * v / 4.0;
+    let Outcome::Separated { rebound_speed } = r.outcome else {
+        panic!("{r:?}: stuck at twice the sticking speed");
+    };
+    let expected = (v * v - v_s * v_s).sqrt();
+    let (turn, leave) = (stored / kinetic - 1.0, rebound_speed / expected - 1.0);
+    eprintln!(
+        "δmax {:.5} δ₀: stored/kinetic − 1 = {turn:.2e}; rebound {rebound_speed:.5} cm/s, \
+         expected {expected:.5} ({leave:.2e})",
+        r.max_overlap / printed::DELTA0
+    );
+    // Measured at 1 ps: 1.04e-4 and 8.8e-5 (the step's error in where contact forms, as for the
+    // threshold above); bound three times that.
+    assert!(turn.abs() < 3e-4 && leave.abs() < 3e-4);
+}
+
+/// The bisection narrows a wide, lopsided bracket to its tolerance: its first midpoint lies 10%
+/// above the threshold, so stopping early shows.
+#[test]
+fn the_threshold_search_narrows_a_lopsided_bracket_to_its_tolerance() {
+    let reference = reference_undamped_threshold();
+    let simulated = sticking_threshold(
+        &undamped(),
+        1e-12,
+        0.7 * reference,
+        1.5 * reference,
+        1e-4,
+        CpuEngine::new,
+    )
+    .unwrap();
+    let rel = simulated / reference - 1.0;
+    eprintln!("threshold from [0.7, 1.5]: {simulated:.5} cm/s ({rel:.2e})");
+    // The bracket's half-width 5e-5 plus the step's 1.6e-5 (above).
+    assert!(rel.abs() < 1e-4, "{rel}");
+}
+
 /// Threshold increase over the undamped one for a damping law, from the engine and from the
 /// independent 1-D reference (RK4, 2 ps), each bisected to 1e-6 relative; the engine at 1 ps.
 fn threshold_increase(damping: Damping, reference: printed::Damping1d, guess: f64) -> (f64, f64) {
