@@ -296,12 +296,11 @@ fn a_compressed_sample_reaches_its_filling_factor_and_is_stored_and_reused() {
     );
     assert!(first.steps > 0 && !first.reused);
     assert_eq!(first.file, state_file(&dir, 200, 0.2, 2.0));
-    // The measurement's wall runs at the benchmark's 1 m/s whatever the preparation's speed.
-    // (The state is stored with the preparation's 2 m/s.)
-    assert_eq!(first.engine.walls[1].velocity.z, -100.0);
+    // The measurement's wall goes on at the preparation's speed, 2 m/s.
+    assert_eq!(first.engine.walls[1].velocity.z, -200.0);
     let again = compressed_engine(&config, 0.2, 2.0, &pool(), &dir, &quiet).unwrap();
     assert!(again.reused && again.steps == 0);
-    assert_eq!(again.engine.walls[1].velocity.z, -100.0);
+    assert_eq!(again.engine.walls[1].velocity.z, -200.0);
     assert_eq!(
         again.engine.monomers.position,
         first.engine.monomers.position
@@ -358,7 +357,7 @@ fn a_compressed_state_exports_its_positions_velocities_and_walls() {
             s.synchronized_angular_velocity(i).to_array()
         );
     }
-    // The deck's top wall starts where the compressed state's is and moves at 1 m/s.
+    // The deck's top wall starts where the compressed state's is.
     let deck = std::fs::read_to_string(dir.join(lammps::DECK)).unwrap();
     let region = deck.lines().find(|l| l.starts_with("region top")).unwrap();
     let top: f64 = region.split_whitespace().nth(5).unwrap().parse().unwrap();

@@ -21,23 +21,37 @@ fn apply_inelastic_limits(i: u32) {
         var twist = stored_n1.w;
 
         let nc = vec_normalize(x1 - x2);
+        // The step energy of the contact as it stands: a correction's "after" is the next
+        // one's "before" (`current` in the CPU twin).
+        var current = 0.0lf;
+        var known = false;
         let rolled = rolling_correction(n1, n2, k.reduced_radius, k.xi_crit);
         if rolled.changed {
             let before = pair_step_energy(i, j, n1, n2, twist);
             n1 = rolled.n1;
             n2 = rolled.n2;
-            add_tally(i, TALLY_ROLLING, before - pair_step_energy(i, j, n1, n2, twist));
+            current = pair_step_energy(i, j, n1, n2, twist);
+            known = true;
+            add_tally(i, TALLY_ROLLING, before - current);
         }
         let slid = sliding_correction(n1, n2, nc, r, r, k.zeta_crit);
         if slid.changed {
-            let before = pair_step_energy(i, j, n1, n2, twist);
+            var before = current;
+            if !known {
+                before = pair_step_energy(i, j, n1, n2, twist);
+            }
             n1 = slid.n1;
             n2 = slid.n2;
-            add_tally(i, TALLY_SLIDING, before - pair_step_energy(i, j, n1, n2, twist));
+            current = pair_step_energy(i, j, n1, n2, twist);
+            known = true;
+            add_tally(i, TALLY_SLIDING, before - current);
         }
         let twisted = twisting_correction(twist, k.phi_crit);
         if twisted.changed {
-            let before = pair_step_energy(i, j, n1, n2, twist);
+            var before = current;
+            if !known {
+                before = pair_step_energy(i, j, n1, n2, twist);
+            }
             twist = twisted.twist;
             add_tally(i, TALLY_TWISTING, before - pair_step_energy(i, j, n1, n2, twist));
         }
@@ -63,8 +77,11 @@ fn wall_contacts_of(i: u32) {
         var twist = wall_n1[idx].w;
         var anchor = wall_anchor[idx].xyz;
 
-        // apply_wall_inelastic_limits: everything goes to the walls channel.
-        let before = wall_step_energy(i, wall, n1, anchor, twist);
+        // apply_wall_inelastic_limits: everything goes to the walls channel. The contact as it
+        // was, for its step energy should a correction change it.
+        let n1_before = n1;
+        let anchor_before = anchor;
+        let twist_before = twist;
         var changed = false;
         let rolled = wall_rolling_correction(n1, anchor, normal, r, k.xi_crit);
         if rolled.changed {
@@ -84,6 +101,7 @@ fn wall_contacts_of(i: u32) {
             changed = true;
         }
         if changed {
+            let before = wall_step_energy(i, wall, n1_before, anchor_before, twist_before);
             add_tally(i, TALLY_WALLS, before - wall_step_energy(i, wall, n1, anchor, twist));
             wall_n1[idx] = vec4<f64>(n1, twist);
             wall_anchor[idx] = vec4<f64>(anchor, 0.0lf);

@@ -81,8 +81,8 @@ pub struct Options {
     pub sample_order: bool,
     /// The starting states measured at every N, in order.
     pub samples: Vec<SampleState>,
-    /// Top wall speed [m/s] that compresses the compressed states (the measurement itself
-    /// runs at 1 m/s).
+    /// Top wall speed [m/s] that compresses the compressed states and goes on while they are
+    /// measured (the fresh sample's measurement runs at 1 m/s).
     pub prepare_speed_m_s: f64,
     pub out: PathBuf,
 }

@@ -104,6 +104,16 @@ pub fn markdown(report: &Report) -> String {
          ratios are the median of the per-round ratios with their range (min–max).",
         o.seconds, o.rounds
     ));
+    if o.samples.iter().any(|s| *s != SampleState::Fresh) {
+        line("");
+        line(&format!(
+            "Compressed samples: the same RBD sample compressed by dustdem at {} m/s until the \
+             wall gap's filling factor reached the value, then measured with the top wall still \
+             at {} m/s (a compressed sample that a wall suddenly pushes at 1 m/s, above the \
+             critical speed, is shaken apart within a few hundred steps).",
+            o.prepare_speed_m_s, o.prepare_speed_m_s
+        ));
+    }
     line("");
     line(&format!("Host: {}.", report.host));
     if let Some(a) = &report.gpu_adapter {

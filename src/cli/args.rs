@@ -180,8 +180,8 @@ pub(super) enum Command {
         /// compressed states are stored under <out>/states and reused.
         #[arg(long, default_value = "fresh")]
         samples: String,
-        /// Top wall speed [m/s] that compresses the compressed states (0.01 to 25); the
-        /// measurement itself runs at 1 m/s.
+        /// Top wall speed [m/s] that compresses the compressed states (0.01 to 25); their
+        /// measurement goes on at this speed (the fresh sample's at 1 m/s).
         #[arg(long, default_value_t = 1.0)]
         prepare_speed: f64,
         #[arg(long, default_value = "bench")]

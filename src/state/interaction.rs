@@ -10,6 +10,47 @@ use crate::model::normal::{jkr_contact_radius_ratio, jkr_force, jkr_potential_at
 use crate::model::{rolling, sliding, twisting, wall as wall_law, ContactLaw};
 use glam::DVec3;
 
+/// What a pair contact's force and energy take from the two monomers' positions and velocities
+/// alone, not from its pointers or twist: the inelastic corrections change only those, so the
+/// forces pass evaluates this once per contact and step and shares it between the corrections'
+/// step energies and the force. The same operations as evaluating it each time, so the same bits.
+#[derive(Clone, Copy, Debug)]
+pub struct PairGeometry {
+    pub distance: f64,
+    /// Unit vector from 2 to 1 (d / |d|).
+    pub nc: DVec3,
+    /// Contact radius over a₀ (JKR).
+    pub x: f64,
+    /// JKR force on 1.
+    pub normal: DVec3,
+    /// Damping force on 1.
+    pub damping: DVec3,
+    /// v₁ − v₂.
+    pub v_rel: DVec3,
+}
+
+/// The [`PairGeometry`] of monomers at `x1`, `x2` moving at `v1`, `v2`.
+pub fn pair_geometry(law: &ContactLaw, x1: DVec3, x2: DVec3, v1: DVec3, v2: DVec3) -> PairGeometry {
+    let k = &law.pair;
+    let r = law.radius;
+    let d = x1 - x2;
+    let distance = d.length();
+    let nc = d / distance;
+    let x = jkr_contact_radius_ratio((2.0 * r - distance) / k.delta0);
+    let normal = nc * jkr_force(x, k.f_c);
+    let coefficient = damping_coefficient(&law.damping, x * k.a0, law.e_star, law.poisson);
+    let v_rel = v1 - v2;
+    let damping = nc * (-coefficient * v_rel.dot(nc));
+    PairGeometry {
+        distance,
+        nc,
+        x,
+        normal,
+        damping,
+        v_rel,
+    }
+}
+
 /// Forces and torques of one contact: (force on 1, damping part of it, torque on 1, torque on 2).
 pub fn pair_interaction(
     law: &ContactLaw,
@@ -19,19 +60,21 @@ pub fn pair_interaction(
     v2: DVec3,
     c: &PairContact,
 ) -> (DVec3, DVec3, DVec3, DVec3) {
+    pair_interaction_at(law, &pair_geometry(law, x1, x2, v1, v2), c)
+}
+
+/// [`pair_interaction`] on a contact whose [`PairGeometry`] is known.
+pub fn pair_interaction_at(
+    law: &ContactLaw,
+    g: &PairGeometry,
+    c: &PairContact,
+) -> (DVec3, DVec3, DVec3, DVec3) {
     let k = &law.pair;
     let r = law.radius;
-    let d = x1 - x2;
-    let distance = d.length();
-    let nc = d / distance;
-    let x = jkr_contact_radius_ratio((2.0 * r - distance) / k.delta0);
-    let normal = nc * jkr_force(x, k.f_c);
-    let coefficient = damping_coefficient(&law.damping, x * k.a0, law.e_star, law.poisson);
-    let damping = nc * (-coefficient * (v1 - v2).dot(nc));
-
+    let nc = g.nc;
     let xi = rolling::rolling_displacement(c.n1, c.n2, k.reduced_radius);
     let zeta = sliding::sliding_displacement(c.n1, c.n2, nc, r, r);
-    let slide = sliding::sliding_force(zeta, c.n1, c.n2, nc, r, r, distance, k.k_s);
+    let slide = sliding::sliding_force(zeta, c.n1, c.n2, nc, r, r, g.distance, k.k_s);
     let twist = twisting::twisting_torque(c.twist, nc, k.k_t);
     let torque1 = rolling::rolling_torque(c.n1, xi, k.reduced_radius, k.k_r)
         + sliding::sliding_torque(c.n1, zeta, r, k.k_s, 1.0)
@@ -39,7 +82,7 @@ pub fn pair_interaction(
     let torque2 = rolling::rolling_torque(c.n2, xi, k.reduced_radius, k.k_r)
         + sliding::sliding_torque(c.n2, zeta, r, k.k_s, -1.0)
         - twist;
-    (normal + damping + slide, damping, torque1, torque2)
+    (g.normal + g.damping + slide, g.damping, torque1, torque2)
 }
 
 /// Potential energy held by a monomer–monomer contact (normal + tangential) [erg].
@@ -49,9 +92,23 @@ pub fn pair_contact_potential(law: &ContactLaw, x1: DVec3, x2: DVec3, c: &PairCo
     let distance = d.length();
     let nc = d / distance;
     let delta = 2.0 * law.radius - distance;
+    let normal = jkr_potential_at_overlap(delta / k.delta0, k.f_c, k.delta0);
+    pair_potential_with(law, normal, nc, c)
+}
+
+/// The JKR part of [`pair_contact_potential`] at a known [`PairGeometry`].
+pub fn pair_normal_potential(law: &ContactLaw, g: &PairGeometry) -> f64 {
+    let k = &law.pair;
+    jkr_potential_at_overlap((2.0 * law.radius - g.distance) / k.delta0, k.f_c, k.delta0)
+}
+
+/// The JKR potential `normal` plus the rolling, sliding and twisting potentials of a contact
+/// with normal `nc`, added in that order.
+fn pair_potential_with(law: &ContactLaw, normal: f64, nc: DVec3, c: &PairContact) -> f64 {
+    let k = &law.pair;
     let xi = rolling::rolling_displacement(c.n1, c.n2, k.reduced_radius);
     let zeta = sliding::sliding_displacement(c.n1, c.n2, nc, law.radius, law.radius);
-    jkr_potential_at_overlap(delta / k.delta0, k.f_c, k.delta0)
+    normal
         + rolling::rolling_potential(xi, k.k_r)
         + sliding::sliding_potential(zeta, k.k_s)
         + twisting::twisting_potential(c.twist, k.k_t)
@@ -78,9 +135,25 @@ pub fn pair_step_energy(
         &monomers.velocity,
         &monomers.angular_velocity,
     );
-    let (f, fd, m1, m2) = pair_interaction(law, p[i], p[j], v[i], v[j], c);
-    let work = (f - fd).dot(v[i] - v[j]) + m1.dot(w[i]) + m2.dot(w[j]);
-    pair_contact_potential(law, p[i], p[j], c) + 0.5 * dt * work
+    let g = pair_geometry(law, p[i], p[j], v[i], v[j]);
+    let normal_potential = pair_normal_potential(law, &g);
+    pair_step_energy_at(law, &g, normal_potential, w[i], w[j], dt, c)
+}
+
+/// [`pair_step_energy`] at a known [`PairGeometry`] and JKR potential
+/// ([`pair_normal_potential`]), for monomers spinning at `w1`, `w2`.
+pub fn pair_step_energy_at(
+    law: &ContactLaw,
+    g: &PairGeometry,
+    normal_potential: f64,
+    w1: DVec3,
+    w2: DVec3,
+    dt: f64,
+    c: &PairContact,
+) -> f64 {
+    let (f, fd, m1, m2) = pair_interaction_at(law, g, c);
+    let work = (f - fd).dot(g.v_rel) + m1.dot(w1) + m2.dot(w2);
+    pair_potential_with(law, normal_potential, g.nc, c) + 0.5 * dt * work
 }
 
 /// Force on the monomer, its damping part and the torque on it.

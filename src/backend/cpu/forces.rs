@@ -10,7 +10,9 @@
 use super::prefetch::{prefetch_one, prefetch_partners_ahead, prefetch_row_ahead, worthwhile};
 use super::workspace::{each_accumulator, split_len, sum_in_order, Workspace, CHUNK};
 use crate::model::{rolling, sliding, twisting, ContactLaw};
-use crate::state::interaction::{pair_interaction, pair_step_energy};
+use crate::state::interaction::{
+    pair_geometry, pair_interaction_at, pair_normal_potential, pair_step_energy_at, PairGeometry,
+};
 use crate::state::{ContactTable, Dissipation, Monomers, PairContact};
 use glam::DVec3;
 use rayon::prelude::*;
@@ -34,25 +36,57 @@ pub fn apply_inelastic_limits(
     c: &mut PairContact,
     tally: &mut Dissipation,
 ) {
+    let (p, v) = (&monomers.position, &monomers.velocity);
+    let j = c.partner as usize;
+    let g = pair_geometry(law, p[i], p[j], v[i], v[j]);
+    apply_inelastic_limits_at(law, monomers, &g, dt, i, c, tally);
+}
+
+/// [`apply_inelastic_limits`] on a contact whose [`PairGeometry`] is known. The step energies
+/// before and after each correction share it, and the JKR potential, computed at the first
+/// correction only: a correction moves pointers and twist, never the monomers.
+pub fn apply_inelastic_limits_at(
+    law: &ContactLaw,
+    monomers: &Monomers,
+    g: &PairGeometry,
+    dt: f64,
+    i: usize,
+    c: &mut PairContact,
+    tally: &mut Dissipation,
+) {
     let k = &law.pair;
     let r = law.radius;
-    let nc = (monomers.position[i] - monomers.position[c.partner as usize]).normalize();
+    let j = c.partner as usize;
+    let nc = (monomers.position[i] - monomers.position[j]).normalize();
+    let (w1, w2) = (monomers.angular_velocity[i], monomers.angular_velocity[j]);
+    let mut normal_potential = None;
+    let mut energy = |c: &PairContact| {
+        let u = *normal_potential.get_or_insert_with(|| pair_normal_potential(law, g));
+        pair_step_energy_at(law, g, u, w1, w2, dt, c)
+    };
+    // The step energy of the contact as it stands: a correction's "after" is the next one's
+    // "before".
+    let mut current = None;
     if let Some((n1, n2)) = rolling::rolling_correction(c.n1, c.n2, k.reduced_radius, k.xi_crit) {
-        let before = pair_step_energy(law, monomers, dt, i, c);
+        let before = current.unwrap_or_else(|| energy(c));
         c.n1 = n1;
         c.n2 = n2;
-        tally.rolling += before - pair_step_energy(law, monomers, dt, i, c);
+        let after = energy(c);
+        tally.rolling += before - after;
+        current = Some(after);
     }
     if let Some((n1, n2)) = sliding::sliding_correction(c.n1, c.n2, nc, r, r, k.zeta_crit) {
-        let before = pair_step_energy(law, monomers, dt, i, c);
+        let before = current.unwrap_or_else(|| energy(c));
         c.n1 = n1;
         c.n2 = n2;
-        tally.sliding += before - pair_step_energy(law, monomers, dt, i, c);
+        let after = energy(c);
+        tally.sliding += before - after;
+        current = Some(after);
     }
     if let Some(twist) = twisting::twisting_correction(c.twist, k.phi_crit) {
-        let before = pair_step_energy(law, monomers, dt, i, c);
+        let before = current.unwrap_or_else(|| energy(c));
         c.twist = twist;
-        tally.twisting += before - pair_step_energy(law, monomers, dt, i, c);
+        tally.twisting += before - energy(c);
     }
 }
 
@@ -106,12 +140,13 @@ pub fn forces_per_slot(
                     });
                 }
                 for c in &mut rows[k * slots..k * slots + count as usize] {
-                    apply_inelastic_limits(law, monomers, dt, i, c, &mut tally);
                     let j = c.partner as usize;
                     let (x1, x2) = (monomers.position[i], monomers.position[j]);
                     let (v1, v2) = (monomers.velocity[i], monomers.velocity[j]);
+                    let g = pair_geometry(law, x1, x2, v1, v2);
+                    apply_inelastic_limits_at(law, monomers, &g, dt, i, c, &mut tally);
                     let (force, damping, torque_owner, torque_partner) =
-                        pair_interaction(law, x1, x2, v1, v2, c);
+                        pair_interaction_at(law, &g, c);
                     *out.next().expect("a result per contact") = PairResult {
                         force,
                         damping,

@@ -27,7 +27,9 @@ pub fn apply_wall_inelastic_limits(
     let k = &wall.constants;
     let radius = law.radius;
     let x = monomers.position[i];
-    let before = wall_step_energy(law, monomers, dt, i, wall, c);
+    // The contact as it was, for its step energy should a correction change it (most do not,
+    // and the energy costs two JKR inversions).
+    let original = *c;
     let mut changed = false;
     if let Some((n1, anchor)) =
         wall_law::wall_rolling_correction(c.n1, c.anchor, wall.normal, radius, k.xi_crit)
@@ -46,6 +48,7 @@ pub fn apply_wall_inelastic_limits(
         changed = true;
     }
     if changed {
+        let before = wall_step_energy(law, monomers, dt, i, wall, &original);
         tally.walls += before - wall_step_energy(law, monomers, dt, i, wall, c);
     }
 }
