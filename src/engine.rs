@@ -130,4 +130,10 @@ pub trait Engine {
     /// The complete state (borrowed where the engine holds it, read back from a device): for
     /// checkpoints, snapshots and failure reports.
     fn state(&self) -> Cow<'_, State>;
+
+    /// Bytes of host memory the engine's arrays hold, where it keeps its state there (the CPU
+    /// engine); `None` for an engine whose state lives on a device.
+    fn host_bytes(&self) -> Option<u64> {
+        None
+    }
 }

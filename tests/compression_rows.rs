@@ -64,7 +64,13 @@ fn rows_and_profiles_come_at_their_steps_with_the_gap_between_the_plates() {
     let phi = 4.0 * 4.0 / 3.0 * PI * RADIUS.powi(3) / box_volume;
     assert!((phi - 0.009_424_8).abs() < 1e-7, "{phi}");
     for &(step, row_gap, row_phi) in &rows {
-        assert!((row_gap - gap).abs() < 1e-12 * gap, "step {step}: gap {row_gap}");
-        assert!((row_phi / phi - 1.0).abs() < 1e-12, "step {step}: φ {row_phi}");
+        assert!(
+            (row_gap - gap).abs() < 1e-12 * gap,
+            "step {step}: gap {row_gap}"
+        );
+        assert!(
+            (row_phi / phi - 1.0).abs() < 1e-12,
+            "step {step}: φ {row_phi}"
+        );
     }
 }

@@ -364,6 +364,24 @@ fn drive<E: Engine>(
     finish(out_dir, &run, stop, &curve_path, &profile_path)
 }
 
+/// "memory: engine arrays 151.2 MiB (1585 B per monomer), peak resident 260.3 MiB": what the
+/// engine's arrays hold (where it keeps them on the host) and the process's peak.
+fn memory_line<E: Engine>(engine: &E) -> Option<String> {
+    const MIB: f64 = 1048576.0;
+    let peak = crate::bench::memory::peak_rss_bytes()?;
+    let arrays = engine.host_bytes().map_or(String::new(), |b| {
+        format!(
+            "engine arrays {:.1} MiB ({:.0} B per monomer), ",
+            b as f64 / MIB,
+            b as f64 / engine.monomer_count() as f64
+        )
+    });
+    Some(format!(
+        "memory: {arrays}peak resident {:.1} MiB",
+        peak as f64 / MIB
+    ))
+}
+
 fn finish<E: Engine>(
     out_dir: &Path,
     run: &Compression<E>,
@@ -382,7 +400,7 @@ fn finish<E: Engine>(
     let last = rows
         .last()
         .map_or((f64::NAN, f64::NAN), |r| (r[iphi], r[ip]));
-    let lines = vec![
+    let mut lines = vec![
         format!(
             "stopped at step {} (t = {:.4e} s): {stop}",
             run.engine.step_count(),
@@ -393,6 +411,7 @@ fn finish<E: Engine>(
             last.0, last.1
         ),
     ];
+    lines.extend(memory_line(&run.engine));
     Ok(JobSummary {
         out_dir: out_dir.to_path_buf(),
         files: vec![

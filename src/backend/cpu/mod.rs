@@ -15,6 +15,7 @@
 pub mod contacts;
 pub mod forces;
 pub mod integrate;
+pub mod memory;
 pub mod neighbours;
 mod prefetch;
 pub mod walls;
@@ -123,6 +124,11 @@ impl CpuEngine {
             workspace: Workspace::default(),
             damping_before: Vec::new(),
         }
+    }
+
+    /// Heap bytes of the damping forces kept for the next step's work.
+    pub fn damping_before_bytes(&self) -> u64 {
+        (self.damping_before.capacity() * std::mem::size_of::<DVec3>()) as u64
     }
 
     fn inverse_mass_inertia(&self) -> (f64, f64) {
@@ -318,6 +324,9 @@ impl CpuEngine {
 }
 
 impl Engine for CpuEngine {
+    fn host_bytes(&self) -> Option<u64> {
+        Some(memory::engine_bytes(self))
+    }
     fn law(&self) -> &ContactLaw {
         &self.law
     }

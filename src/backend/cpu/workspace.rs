@@ -81,6 +81,14 @@ pub struct PartnerIndex {
 }
 
 impl PartnerIndex {
+    /// Heap bytes of the index's arrays.
+    pub fn heap_bytes(&self) -> u64 {
+        [&self.owner_start, &self.start, &self.slots, &self.next]
+            .iter()
+            .map(|v| (v.capacity() * std::mem::size_of::<u32>()) as u64)
+            .sum()
+    }
+
     /// Rebuilds the index from the table (counting sort by partner; stable in owner order).
     pub fn rebuild(&mut self, table: &ContactTable) {
         let n = table.pair_count.len();
