@@ -47,11 +47,18 @@ fn a_cut_top_with_an_automatic_footprint_widens_until_the_sample_fits_below_its_
     };
     assert_eq!(sample.positions.len(), 50);
     // Every monomer wholly below a height equal to the side.
-    assert!(sample.z_max() + RADIUS <= side, "{} > {side}", sample.z_max());
+    assert!(
+        sample.z_max() + RADIUS <= side,
+        "{} > {side}",
+        sample.z_max()
+    );
     // The cube of φ = 0.15 holding 50 monomers has a side of (50 v / 0.15)^⅓ = 6.706 µm
     // (v = 4/3 π (0.6 µm)³ = 0.904 779 µm³); so few monomers do not fit below it (their wall
     // layers are sparse), and the side widens by 1% steps (measured: two, 6.841 µm).
-    assert!(side > 1.005 * 6.706e-4 && side < 1.49 * 6.706e-4, "side {side}");
+    assert!(
+        side > 1.005 * 6.706e-4 && side < 1.49 * 6.706e-4,
+        "side {side}"
+    );
 }
 
 #[test]

@@ -8,6 +8,7 @@
 
 mod atomic_writes;
 mod bad_values;
+mod large;
 mod pvd_collection;
 mod readers;
 mod round_trip;
