@@ -156,6 +156,35 @@ pub fn pair_step_energy_at(
     pair_potential_with(law, normal_potential, g.nc, c) + 0.5 * dt * work
 }
 
+/// What a wall contact's force and energy take from the monomer's position and velocity
+/// alone, not from its pointer, anchor or twist: shared, like [`PairGeometry`], between the
+/// wall corrections' step energies and the force, with the same bits.
+#[derive(Clone, Copy, Debug)]
+pub struct WallGeometry {
+    /// Contact radius over a₀,wall (JKR).
+    pub x_ratio: f64,
+    /// JKR force on the monomer.
+    pub normal: DVec3,
+    /// Damping force on the monomer (against the wall's velocity).
+    pub damping: DVec3,
+}
+
+/// The [`WallGeometry`] of a monomer at `x` moving at `v` against `wall`.
+pub fn wall_geometry(law: &ContactLaw, x: DVec3, v: DVec3, wall: &Wall) -> WallGeometry {
+    let k = &wall.constants;
+    let r = law.radius;
+    let n = wall.normal;
+    let x_ratio = jkr_contact_radius_ratio(wall_law::wall_overlap(x, wall.point, n, r) / k.delta0);
+    let normal = n * jkr_force(x_ratio, k.f_c);
+    let coefficient = damping_coefficient(&law.damping, x_ratio * k.a0, law.e_star, law.poisson);
+    let damping = n * (-coefficient * (v - wall.velocity).dot(n));
+    WallGeometry {
+        x_ratio,
+        normal,
+        damping,
+    }
+}
+
 /// Force on the monomer, its damping part and the torque on it.
 pub fn wall_interaction(
     law: &ContactLaw,
@@ -164,32 +193,51 @@ pub fn wall_interaction(
     wall: &Wall,
     c: &WallContact,
 ) -> (DVec3, DVec3, DVec3) {
+    wall_interaction_at(law, &wall_geometry(law, x, v, wall), x, wall, c)
+}
+
+/// [`wall_interaction`] of a monomer at `x` whose [`WallGeometry`] is known.
+pub fn wall_interaction_at(
+    law: &ContactLaw,
+    g: &WallGeometry,
+    x: DVec3,
+    wall: &Wall,
+    c: &WallContact,
+) -> (DVec3, DVec3, DVec3) {
     let k = &wall.constants;
     let r = law.radius;
     let n = wall.normal;
-    let x_ratio = jkr_contact_radius_ratio(wall_law::wall_overlap(x, wall.point, n, r) / k.delta0);
-    let normal = n * jkr_force(x_ratio, k.f_c);
-    let coefficient = damping_coefficient(&law.damping, x_ratio * k.a0, law.e_star, law.poisson);
-    let damping = n * (-coefficient * (v - wall.velocity).dot(n));
     let xi = wall_law::wall_rolling_displacement(c.n1, n, r);
     let zeta = wall_law::wall_sliding_displacement(x, c.n1, r, c.anchor, n);
     let torque = rolling::rolling_torque(c.n1, xi, r, k.k_r)
         + sliding::sliding_torque(c.n1, zeta, r, k.k_s, 1.0)
         + twisting::twisting_torque(c.twist, n, k.k_t);
     (
-        normal + damping + wall_law::wall_sliding_force(zeta, k.k_s),
-        damping,
+        g.normal + g.damping + wall_law::wall_sliding_force(zeta, k.k_s),
+        g.damping,
         torque,
     )
 }
 
 /// Potential energy held by a monomer–wall contact [erg].
 pub fn wall_contact_potential(radius: f64, x: DVec3, wall: &Wall, c: &WallContact) -> f64 {
+    wall_potential_with(radius, wall_normal_potential(radius, x, wall), x, wall, c)
+}
+
+/// The JKR part of [`wall_contact_potential`].
+pub fn wall_normal_potential(radius: f64, x: DVec3, wall: &Wall) -> f64 {
     let k = &wall.constants;
     let delta = wall_law::wall_overlap(x, wall.point, wall.normal, radius);
+    jkr_potential_at_overlap(delta / k.delta0, k.f_c, k.delta0)
+}
+
+/// The JKR potential `normal` plus the rolling, sliding and twisting potentials of a wall
+/// contact, added in that order.
+fn wall_potential_with(radius: f64, normal: f64, x: DVec3, wall: &Wall, c: &WallContact) -> f64 {
+    let k = &wall.constants;
     let xi = wall_law::wall_rolling_displacement(c.n1, wall.normal, radius);
     let zeta = wall_law::wall_sliding_displacement(x, c.n1, radius, c.anchor, wall.normal);
-    jkr_potential_at_overlap(delta / k.delta0, k.f_c, k.delta0)
+    normal
         + rolling::rolling_potential(xi, k.k_r)
         + sliding::sliding_potential(zeta, k.k_s)
         + twisting::twisting_potential(c.twist, k.k_t)
@@ -210,7 +258,36 @@ pub fn wall_step_energy(
         &monomers.velocity,
         &monomers.angular_velocity,
     );
-    let (f, fd, m) = wall_interaction(law, p[i], v[i], wall, c);
-    let work = (f - fd).dot(v[i] - wall.velocity) + m.dot(w[i]);
-    wall_contact_potential(law.radius, p[i], wall, c) + 0.5 * dt * work
+    let g = wall_geometry(law, p[i], v[i], wall);
+    let normal_potential = wall_normal_potential(law.radius, p[i], wall);
+    let motion = WallMotion {
+        x: p[i],
+        v: v[i],
+        w: w[i],
+    };
+    wall_step_energy_at(law, &g, normal_potential, &motion, wall, dt, c)
+}
+
+/// A monomer's position, velocity and spin, for [`wall_step_energy_at`].
+#[derive(Clone, Copy, Debug)]
+pub struct WallMotion {
+    pub x: DVec3,
+    pub v: DVec3,
+    pub w: DVec3,
+}
+
+/// [`wall_step_energy`] at a known [`WallGeometry`] and JKR potential
+/// ([`wall_normal_potential`]).
+pub fn wall_step_energy_at(
+    law: &ContactLaw,
+    g: &WallGeometry,
+    normal_potential: f64,
+    m: &WallMotion,
+    wall: &Wall,
+    dt: f64,
+    c: &WallContact,
+) -> f64 {
+    let (f, fd, torque) = wall_interaction_at(law, g, m.x, wall, c);
+    let work = (f - fd).dot(m.v - wall.velocity) + torque.dot(m.w);
+    wall_potential_with(law.radius, normal_potential, m.x, wall, c) + 0.5 * dt * work
 }

@@ -8,7 +8,10 @@
 
 use super::workspace::{each_accumulator, split_len, sum_in_order, Workspace, CHUNK};
 use crate::model::{twisting, wall as wall_law, ContactLaw};
-use crate::state::interaction::{wall_interaction, wall_step_energy};
+use crate::state::interaction::{
+    wall_geometry, wall_interaction_at, wall_normal_potential, wall_step_energy_at, WallGeometry,
+    WallMotion,
+};
 use crate::state::reduction::reduce_walls;
 use crate::state::{ContactTable, Dissipation, Monomers, Wall, WallContact};
 use glam::DVec3;
@@ -24,11 +27,27 @@ pub fn apply_wall_inelastic_limits(
     c: &mut WallContact,
     tally: &mut Dissipation,
 ) {
+    let g = wall_geometry(law, monomers.position[i], monomers.velocity[i], wall);
+    apply_wall_inelastic_limits_at(law, monomers, &g, dt, i, wall, c, tally);
+}
+
+/// [`apply_wall_inelastic_limits`] on a contact whose [`WallGeometry`] is known: the step
+/// energies before and after share it (a correction moves pointer, anchor and twist, never the
+/// monomer), and they are evaluated only where a correction changed the contact.
+#[allow(clippy::too_many_arguments)]
+pub fn apply_wall_inelastic_limits_at(
+    law: &ContactLaw,
+    monomers: &Monomers,
+    g: &WallGeometry,
+    dt: f64,
+    i: usize,
+    wall: &Wall,
+    c: &mut WallContact,
+    tally: &mut Dissipation,
+) {
     let k = &wall.constants;
     let radius = law.radius;
     let x = monomers.position[i];
-    // The contact as it was, for its step energy should a correction change it (most do not,
-    // and the energy costs two JKR inversions).
     let original = *c;
     let mut changed = false;
     if let Some((n1, anchor)) =
@@ -48,8 +67,14 @@ pub fn apply_wall_inelastic_limits(
         changed = true;
     }
     if changed {
-        let before = wall_step_energy(law, monomers, dt, i, wall, &original);
-        tally.walls += before - wall_step_energy(law, monomers, dt, i, wall, c);
+        let motion = WallMotion {
+            x,
+            v: monomers.velocity[i],
+            w: monomers.angular_velocity[i],
+        };
+        let u = wall_normal_potential(radius, x, wall);
+        let before = wall_step_energy_at(law, g, u, &motion, wall, dt, &original);
+        tally.walls += before - wall_step_energy_at(law, g, u, &motion, wall, dt, c);
     }
 }
 
@@ -90,9 +115,10 @@ pub fn wall_forces_per_slot(
                 for s in k * slots..k * slots + counts[i] as usize {
                     let c = &mut rows[s];
                     let wall = &walls[c.wall as usize];
-                    apply_wall_inelastic_limits(law, monomers, dt, i, wall, c, &mut tally);
                     let x = monomers.position[i];
-                    let (f, fd, m) = wall_interaction(law, x, monomers.velocity[i], wall, c);
+                    let g = wall_geometry(law, x, monomers.velocity[i], wall);
+                    apply_wall_inelastic_limits_at(law, monomers, &g, dt, i, wall, c, &mut tally);
+                    let (f, fd, m) = wall_interaction_at(law, &g, x, wall, c);
                     forces[s] = f;
                     dampings[s] = fd;
                     torques[s] = m;
