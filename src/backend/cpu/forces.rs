@@ -11,7 +11,7 @@ use super::prefetch::{prefetch_one, prefetch_partners_ahead, prefetch_row_ahead,
 use super::workspace::{each_accumulator, split_len, sum_in_order, Workspace, CHUNK};
 use crate::model::{rolling, sliding, twisting, ContactLaw};
 use crate::state::interaction::{
-    pair_geometry, pair_interaction_at, pair_normal_potential, pair_step_energy_at, PairGeometry,
+    pair_geometry, pair_interaction, pair_normal_potential, pair_step_energy_at, PairGeometry,
 };
 use crate::state::{ContactTable, Dissipation, Monomers, PairContact};
 use glam::DVec3;
@@ -28,6 +28,12 @@ pub struct PairResult {
 }
 
 /// Applies the inelastic limits to one contact in the order rolling, sliding, twisting.
+///
+/// Each correction books its dissipation as the drop of the contact's step energy. A correction
+/// moves pointers and twist, never the monomers, so the energies share the contact's
+/// [`PairGeometry`] and JKR potential, evaluated at the first correction only (most contacts of
+/// a loose sample need none, and then nothing extra is evaluated), and one correction's "after"
+/// is the next one's "before".
 pub fn apply_inelastic_limits(
     law: &ContactLaw,
     monomers: &Monomers,
@@ -36,36 +42,24 @@ pub fn apply_inelastic_limits(
     c: &mut PairContact,
     tally: &mut Dissipation,
 ) {
-    let (p, v) = (&monomers.position, &monomers.velocity);
-    let j = c.partner as usize;
-    let g = pair_geometry(law, p[i], p[j], v[i], v[j]);
-    apply_inelastic_limits_at(law, monomers, &g, dt, i, c, tally);
-}
-
-/// [`apply_inelastic_limits`] on a contact whose [`PairGeometry`] is known. The step energies
-/// before and after each correction share it, and the JKR potential, computed at the first
-/// correction only: a correction moves pointers and twist, never the monomers.
-pub fn apply_inelastic_limits_at(
-    law: &ContactLaw,
-    monomers: &Monomers,
-    g: &PairGeometry,
-    dt: f64,
-    i: usize,
-    c: &mut PairContact,
-    tally: &mut Dissipation,
-) {
     let k = &law.pair;
     let r = law.radius;
     let j = c.partner as usize;
-    let nc = (monomers.position[i] - monomers.position[j]).normalize();
-    let (w1, w2) = (monomers.angular_velocity[i], monomers.angular_velocity[j]);
-    let mut normal_potential = None;
+    let (p, v, w) = (
+        &monomers.position,
+        &monomers.velocity,
+        &monomers.angular_velocity,
+    );
+    let nc = (p[i] - p[j]).normalize();
+    let mut shared: Option<(PairGeometry, f64)> = None;
     let mut energy = |c: &PairContact| {
-        let u = *normal_potential.get_or_insert_with(|| pair_normal_potential(law, g));
-        pair_step_energy_at(law, g, u, w1, w2, dt, c)
+        let (g, u) = *shared.get_or_insert_with(|| {
+            let g = pair_geometry(law, p[i], p[j], v[i], v[j]);
+            (g, pair_normal_potential(law, &g))
+        });
+        pair_step_energy_at(law, &g, u, w[i], w[j], dt, c)
     };
-    // The step energy of the contact as it stands: a correction's "after" is the next one's
-    // "before".
+    // The step energy of the contact as it stands.
     let mut current = None;
     if let Some((n1, n2)) = rolling::rolling_correction(c.n1, c.n2, k.reduced_radius, k.xi_crit) {
         let before = current.unwrap_or_else(|| energy(c));
@@ -140,13 +134,12 @@ pub fn forces_per_slot(
                     });
                 }
                 for c in &mut rows[k * slots..k * slots + count as usize] {
+                    apply_inelastic_limits(law, monomers, dt, i, c, &mut tally);
                     let j = c.partner as usize;
                     let (x1, x2) = (monomers.position[i], monomers.position[j]);
                     let (v1, v2) = (monomers.velocity[i], monomers.velocity[j]);
-                    let g = pair_geometry(law, x1, x2, v1, v2);
-                    apply_inelastic_limits_at(law, monomers, &g, dt, i, c, &mut tally);
                     let (force, damping, torque_owner, torque_partner) =
-                        pair_interaction_at(law, &g, c);
+                        pair_interaction(law, x1, x2, v1, v2, c);
                     *out.next().expect("a result per contact") = PairResult {
                         force,
                         damping,
