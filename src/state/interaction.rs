@@ -12,15 +12,13 @@ use glam::DVec3;
 
 /// What a pair contact's force and energy take from the two monomers' positions and velocities
 /// alone, not from its pointers or twist: the inelastic corrections change only those, so the
-/// forces pass evaluates this once per contact and step and shares it between the corrections'
-/// step energies and the force. The same operations as evaluating it each time, so the same bits.
+/// forces pass evaluates this at a contact's first correction and shares it between the
+/// corrections' step energies. The same operations as evaluating it each time, so the same bits.
 #[derive(Clone, Copy, Debug)]
 pub struct PairGeometry {
     pub distance: f64,
     /// Unit vector from 2 to 1 (d / |d|).
     pub nc: DVec3,
-    /// Contact radius over a₀ (JKR).
-    pub x: f64,
     /// JKR force on 1.
     pub normal: DVec3,
     /// Damping force on 1.
@@ -44,7 +42,6 @@ pub fn pair_geometry(law: &ContactLaw, x1: DVec3, x2: DVec3, v1: DVec3, v2: DVec
     PairGeometry {
         distance,
         nc,
-        x,
         normal,
         damping,
         v_rel,
@@ -161,8 +158,6 @@ pub fn pair_step_energy_at(
 /// wall corrections' step energies and the force, with the same bits.
 #[derive(Clone, Copy, Debug)]
 pub struct WallGeometry {
-    /// Contact radius over a₀,wall (JKR).
-    pub x_ratio: f64,
     /// JKR force on the monomer.
     pub normal: DVec3,
     /// Damping force on the monomer (against the wall's velocity).
@@ -178,11 +173,7 @@ pub fn wall_geometry(law: &ContactLaw, x: DVec3, v: DVec3, wall: &Wall) -> WallG
     let normal = n * jkr_force(x_ratio, k.f_c);
     let coefficient = damping_coefficient(&law.damping, x_ratio * k.a0, law.e_star, law.poisson);
     let damping = n * (-coefficient * (v - wall.velocity).dot(n));
-    WallGeometry {
-        x_ratio,
-        normal,
-        damping,
-    }
+    WallGeometry { normal, damping }
 }
 
 /// Force on the monomer, its damping part and the torque on it.

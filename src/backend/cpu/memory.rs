@@ -3,11 +3,12 @@
 //! states; `tests/memory.rs` holds a run's resident memory to it.
 
 use super::neighbours::NeighbourList;
-use super::workspace::{PartnerIndex, Workspace};
+use super::workspace::Workspace;
 use super::CpuEngine;
 use crate::state::{ContactTable, Monomers};
 
-fn bytes<T>(v: &Vec<T>) -> u64 {
+/// Heap bytes a vector holds (its capacity, not its length).
+pub fn bytes<T>(v: &Vec<T>) -> u64 {
     (v.capacity() * std::mem::size_of::<T>()) as u64
 }
 
@@ -38,14 +39,10 @@ fn neighbour_bytes(l: &NeighbourList) -> u64 {
 
 fn workspace_bytes(w: &Workspace) -> u64 {
     bytes(&w.pair_result)
-        + index_bytes(&w.incoming)
+        + w.incoming.heap_bytes()
         + bytes(&w.wall_force)
         + bytes(&w.wall_damping)
         + bytes(&w.wall_torque)
-}
-
-fn index_bytes(p: &PartnerIndex) -> u64 {
-    p.heap_bytes()
 }
 
 /// Heap bytes of the engine's arrays: monomers, contact table, walls' forces, neighbour list,
@@ -58,5 +55,5 @@ pub fn engine_bytes(e: &CpuEngine) -> u64 {
         + bytes(&s.wall_damping)
         + neighbour_bytes(&e.neighbours)
         + workspace_bytes(&e.workspace)
-        + e.damping_before_bytes()
+        + bytes(e.damping_before())
 }

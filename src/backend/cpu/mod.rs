@@ -126,9 +126,9 @@ impl CpuEngine {
         }
     }
 
-    /// Heap bytes of the damping forces kept for the next step's work.
-    pub fn damping_before_bytes(&self) -> u64 {
-        (self.damping_before.capacity() * std::mem::size_of::<DVec3>()) as u64
+    /// The damping forces kept for the next step's work (for the memory count).
+    pub fn damping_before(&self) -> &Vec<DVec3> {
+        &self.damping_before
     }
 
     fn inverse_mass_inertia(&self) -> (f64, f64) {

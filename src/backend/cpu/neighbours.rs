@@ -25,7 +25,7 @@ pub struct NeighbourList {
 impl NeighbourList {
     /// Heap bytes of the positions the list was built from.
     pub fn reference_bytes(&self) -> u64 {
-        (self.reference.capacity() * std::mem::size_of::<DVec3>()) as u64
+        super::memory::bytes(&self.reference)
     }
 
     pub fn new(contact_distance: f64, skin: f64) -> Self {

@@ -85,7 +85,7 @@ impl PartnerIndex {
     pub fn heap_bytes(&self) -> u64 {
         [&self.owner_start, &self.start, &self.slots, &self.next]
             .iter()
-            .map(|v| (v.capacity() * std::mem::size_of::<u32>()) as u64)
+            .map(|v| super::memory::bytes(v))
             .sum()
     }
 
