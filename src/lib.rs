@@ -15,6 +15,7 @@ pub mod engine;
 pub mod experiment;
 pub mod job;
 pub mod material;
+pub mod mixed;
 pub mod model;
 pub mod output;
 pub mod reproduce;

@@ -1,7 +1,10 @@
 //! Adapter and device: what the simulation needs of the GPU, checked once at start-up.
 //!
-//! The state is f64 throughout (overlaps of 10⁻¹⁰ cm inside boxes of 10⁻² cm do not survive
-//! f32), so an adapter without `SHADER_F64` is unusable rather than a slower fallback. Limits are
+//! The engine's state is f64 (overlaps of 10⁻¹⁰ cm inside boxes of 10⁻² cm do not survive plain
+//! f32), so the engine needs `SHADER_F64` ([`ShaderF64::Required`], the default). Passes compiled
+//! at [`super::shader::Precision::Mixed`] need no f64 and run on a device made with
+//! [`ShaderF64::Optional`] or [`ShaderF64::Refused`] (the latter makes lavapipe stand in for an
+//! adapter without f64, such as every Metal one). Limits are
 //! requested as the adapter offers them: wgpu's defaults (8 storage buffers per stage,
 //! 128 MiB per binding) are WebGPU's lowest common denominator, and a Vulkan adapter usually
 //! has more.
@@ -10,7 +13,9 @@ use super::shader::FloatMode;
 use std::fmt;
 use std::sync::{Arc, Mutex};
 
-/// Features every pass may rely on. Matches [`super::shader::CAPABILITIES`].
+pub use super::runtime_dir::PrivateRuntimeDir;
+
+/// Features every f64 pass may rely on. Matches [`super::shader::CAPABILITIES`].
 pub const REQUIRED_FEATURES: wgpu::Features = wgpu::Features::SHADER_F64;
 /// Taken where offered, for the per-pass times of the benchmark (GpuEngine::profile_passes).
 pub const TIMING_FEATURES: wgpu::Features =
@@ -20,6 +25,17 @@ pub const TIMING_FEATURES: wgpu::Features =
 /// float operations are marked `NoContraction` ([`FloatMode::Exact`]).
 pub const EXACT_FLOAT_FEATURES: wgpu::Features = wgpu::Features::PASSTHROUGH_SHADERS;
 
+/// Whether a device is made with f64 in shaders.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShaderF64 {
+    /// Adapters without `SHADER_F64` are unfit.
+    Required,
+    /// Asked for where the adapter offers it.
+    Optional,
+    /// Never asked for, even where offered: a device as an adapter without f64 would give.
+    Refused,
+}
+
 /// Limits below which the passes cannot be laid out at all.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Requirements {
@@ -27,14 +43,17 @@ pub struct Requirements {
     pub min_storage_buffers_per_shader_stage: u32,
     /// Bytes of the largest array bound as one storage binding [B].
     pub min_storage_buffer_binding_size: u64,
+    pub shader_f64: ShaderF64,
 }
 
 impl Default for Requirements {
-    /// WebGPU's guaranteed minimums: 8 storage buffers per stage, 128 MiB per binding.
+    /// WebGPU's guaranteed minimums: 8 storage buffers per stage, 128 MiB per binding; f64
+    /// required.
     fn default() -> Self {
         Requirements {
             min_storage_buffers_per_shader_stage: 8,
             min_storage_buffer_binding_size: 128 << 20,
+            shader_f64: ShaderF64::Required,
         }
     }
 }
@@ -182,6 +201,8 @@ pub struct GpuContext {
     pub queue: wgpu::Queue,
     /// How shaders reach this device; `Exact` wherever the adapter allows it.
     pub float_mode: FloatMode,
+    /// Whether the device was made with `SHADER_F64` (f64 passes can run on it).
+    pub shader_f64: bool,
     /// Why the device was lost, or the first error it reported outside any error scope
     /// (wgpu's default would panic): the engine turns it into an error at its next read.
     pub failure: Arc<Mutex<Option<String>>>,
@@ -232,10 +253,20 @@ impl GpuContext {
         }
         let adapter = best.ok_or(ContextError::NoSuitableAdapter(reasons))?;
         let float_mode = adapter_summary(&adapter).float_mode();
+        let shader_f64 = match requirements.shader_f64 {
+            ShaderF64::Required => true,
+            ShaderF64::Optional => adapter.features().contains(REQUIRED_FEATURES),
+            ShaderF64::Refused => false,
+        };
         let features = match float_mode {
-            FloatMode::Exact => REQUIRED_FEATURES | EXACT_FLOAT_FEATURES,
-            FloatMode::Relaxed => REQUIRED_FEATURES,
+            FloatMode::Exact => EXACT_FLOAT_FEATURES,
+            FloatMode::Relaxed => wgpu::Features::empty(),
         } | (adapter.features() & TIMING_FEATURES);
+        let features = if shader_f64 {
+            features | REQUIRED_FEATURES
+        } else {
+            features
+        };
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("dustdem"),
@@ -262,6 +293,7 @@ impl GpuContext {
             device,
             queue,
             float_mode,
+            shader_f64,
             failure,
         })
     }
@@ -289,7 +321,9 @@ fn record_failure(slot: &Mutex<Option<String>>, message: String) {
 /// What `adapter` lacks, one phrase per missing item (empty when it fits).
 fn unfit(adapter: &AdapterSummary, requirements: &Requirements) -> Vec<String> {
     let mut missing = Vec::new();
-    if !adapter.features.contains(REQUIRED_FEATURES) {
+    if requirements.shader_f64 == ShaderF64::Required
+        && !adapter.features.contains(REQUIRED_FEATURES)
+    {
         missing.push(format!(
             "lacks {:?} (f64 in shaders)",
             REQUIRED_FEATURES - adapter.features
@@ -324,74 +358,21 @@ fn rank(device_type: wgpu::DeviceType) -> u8 {
     }
 }
 
-/// A runtime directory of this process's own, for the adapter probe.
-///
-/// Making a Vulkan instance loads Mesa's device-select layer, which asks a Wayland compositor
-/// for the default GPU where it can; without an absolute `XDG_RUNTIME_DIR`, libwayland prints
-/// `error: XDG_RUNTIME_DIR is invalid or not set in the environment.` for that (twice), a line
-/// that looks like a dustdem error and is about a display that a compute job never uses. With
-/// a runtime directory the connection attempt fails quietly and nothing else changes: the
-/// simulation draws nothing.
-///
-/// [`PrivateRuntimeDir::ensure`] makes one where `XDG_RUNTIME_DIR` is unset, not absolute or
-/// not a directory: a fresh directory in the system temp folder, mode 0700, removed with its
-/// contents when the guard is dropped. `dustdem -v` skips it, so the libraries' own messages
-/// stay visible.
-#[derive(Debug)]
-pub struct PrivateRuntimeDir(std::path::PathBuf);
-
-impl PrivateRuntimeDir {
-    /// Sets `XDG_RUNTIME_DIR` to a new private directory where it is not usable (`None` where
-    /// it is, or where no directory could be made). Changes the environment, so it must run
-    /// before any other thread starts: `main` calls it first.
-    pub fn ensure() -> Option<PrivateRuntimeDir> {
-        let usable = std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|dir| {
-            let dir = std::path::Path::new(&dir);
-            dir.is_absolute() && dir.is_dir()
-        });
-        if usable {
-            return None;
-        }
-        let dir = Self::create()?;
-        std::env::set_var("XDG_RUNTIME_DIR", &dir);
-        Some(PrivateRuntimeDir(dir))
-    }
-
-    pub fn path(&self) -> &std::path::Path {
-        &self.0
-    }
-
-    /// `dustdem-runtime-<pid>` (or `-<pid>-<k>` if that exists) in the temp folder, mode 0700.
-    fn create() -> Option<std::path::PathBuf> {
-        let base = std::path::absolute(std::env::temp_dir()).ok()?;
-        let pid = std::process::id();
-        (0..100).find_map(|k| {
-            let name = if k == 0 {
-                format!("dustdem-runtime-{pid}")
-            } else {
-                format!("dustdem-runtime-{pid}-{k}")
-            };
-            let dir = base.join(name);
-            let mut builder = std::fs::DirBuilder::new();
-            #[cfg(unix)]
-            std::os::unix::fs::DirBuilderExt::mode(&mut builder, 0o700);
-            builder.create(&dir).ok().map(|()| dir)
-        })
-    }
-}
-
-impl Drop for PrivateRuntimeDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
 /// For GPU tests: a context, or `None` after a notice when none can be made and `CI` is unset.
 ///
 /// CI installs lavapipe, so there a missing or unfit adapter is a failure: a test that skipped
 /// silently would pass without having run.
 pub fn context_for_tests() -> Option<GpuContext> {
-    match GpuContext::new(&Requirements::default()) {
+    context_for_tests_with(ShaderF64::Required)
+}
+
+/// As [`context_for_tests`], with f64 in shaders as `shader_f64` says.
+pub fn context_for_tests_with(shader_f64: ShaderF64) -> Option<GpuContext> {
+    let requirements = Requirements {
+        shader_f64,
+        ..Requirements::default()
+    };
+    match GpuContext::new(&requirements) {
         Ok(context) => Some(context),
         Err(e) if std::env::var_os("CI").is_some() => {
             panic!("CI is set, so a GPU is expected (lavapipe), but: {e}")
@@ -432,6 +413,26 @@ mod tests {
             &Requirements::default(),
         );
         assert!(fits.is_empty(), "{fits:?}");
+        for shader_f64 in [ShaderF64::Optional, ShaderF64::Refused] {
+            let needs = Requirements {
+                shader_f64,
+                ..Requirements::default()
+            };
+            let fits = unfit(
+                &summary(wgpu::Features::empty(), wgpu::Limits::default()),
+                &needs,
+            );
+            assert!(fits.is_empty(), "{shader_f64:?}: {fits:?}");
+        }
+    }
+
+    #[test]
+    fn a_device_made_refusing_f64_has_none() {
+        let Some(ctx) = context_for_tests_with(ShaderF64::Refused) else {
+            return;
+        };
+        assert!(!ctx.shader_f64);
+        assert!(!ctx.device.features().contains(wgpu::Features::SHADER_F64));
     }
 
     #[test]
@@ -439,6 +440,7 @@ mod tests {
         let needs = Requirements {
             min_storage_buffers_per_shader_stage: 16,
             min_storage_buffer_binding_size: 1 << 30,
+            shader_f64: ShaderF64::Required,
         };
         let why = unfit(
             &summary(wgpu::Features::SHADER_F64, wgpu::Limits::default()),

@@ -10,6 +10,7 @@ pub mod engine;
 pub mod kernels;
 pub mod layout;
 pub mod quirks;
+mod runtime_dir;
 pub mod shader;
 pub mod spirv;
 

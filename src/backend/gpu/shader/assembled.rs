@@ -2,7 +2,7 @@
 //! in either float mode.
 
 use super::error::{NagaError, ShaderError};
-use super::{FloatMode, CAPABILITIES};
+use super::{FloatMode, Precision};
 use crate::backend::gpu::context::GpuContext;
 use crate::backend::gpu::spirv;
 
@@ -22,6 +22,8 @@ pub struct Assembled {
     pub path: &'static str,
     pub source: String,
     pub(super) segments: Vec<Segment>,
+    /// The arithmetic width of `source` (assembled as f64; see [`Assembled::with_precision`]).
+    pub precision: Precision,
 }
 
 /// The line of shaders/engine/bindings.wgsl that [`Assembled::with_one_slot_chunk`] rewrites.
@@ -33,7 +35,24 @@ impl Assembled {
             path,
             source,
             segments,
+            precision: Precision::Exact,
         }
+    }
+
+    /// The same pass at `precision`: the mixed text is derived from the f64 one token by
+    /// token (`shader::precision`), so error locations stay as they are.
+    pub fn with_precision(mut self, precision: Precision) -> Self {
+        if self.precision != precision {
+            assert_eq!(
+                self.precision,
+                Precision::Exact,
+                "{}: already derived",
+                self.path
+            );
+            self.source = precision.apply(&self.source);
+            self.precision = precision;
+        }
+        self
     }
 
     /// The same pass compiled for per-slot arrays held in one binding (see
@@ -74,8 +93,10 @@ impl Assembled {
                 e.emit_to_string_with_path(&self.source, &self.report_path()),
             )
         })?;
-        let mut validator =
-            naga::valid::Validator::new(naga::valid::ValidationFlags::all(), CAPABILITIES);
+        let mut validator = naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            self.precision.capabilities(),
+        );
         let info = validator.validate(&module).map_err(|e| {
             let mut message = e.as_inner().to_string();
             let mut cause: Option<&dyn std::error::Error> = std::error::Error::source(e.as_inner());
@@ -118,6 +139,12 @@ impl Assembled {
         entry: Option<&str>,
     ) -> Result<wgpu::ShaderModule, ShaderError> {
         let (module, info) = self.validate()?;
+        if self.precision == Precision::Exact && !ctx.shader_f64 {
+            return Err(ShaderError::F64Unavailable {
+                path: self.path,
+                adapter: ctx.summary().name,
+            });
+        }
         match mode {
             FloatMode::Relaxed => {
                 Ok(ctx
@@ -146,7 +173,7 @@ impl Assembled {
                     })
                     .collect();
                 // SAFETY: the words are naga's SPIR-V for a module naga has just validated with
-                // CAPABILITIES, which the device's features cover; the added NoContraction
+                // its precision's capabilities, which the device's features cover; the added NoContraction
                 // decorations only forbid rewrites and change no type, id or control flow.
                 // What passthrough skips is wgpu's check of the shader's bindings against the
                 // pipeline layout, which the kernels' explicit layouts must therefore match.

@@ -21,6 +21,11 @@ pub enum ShaderError {
     },
     /// [`FloatMode::Exact`] asked of a device without Vulkan SPIR-V passthrough.
     ExactUnavailable(String),
+    /// An f64 pass ([`super::Precision::Exact`]) for a device made without `SHADER_F64`.
+    F64Unavailable {
+        path: &'static str,
+        adapter: String,
+    },
     /// naga rejected the assembled text.
     Naga(Box<NagaError>),
 }
@@ -60,6 +65,11 @@ impl fmt::Display for ShaderError {
             ShaderError::ExactUnavailable(adapter) => write!(
                 f,
                 "{adapter}: no SPIR-V passthrough (Vulkan only), so no bit-exact float mode"
+            ),
+            ShaderError::F64Unavailable { path, adapter } => write!(
+                f,
+                "{path}: f64 pass for a device without SHADER_F64 ({adapter}); compile it at \
+                 Precision::Mixed"
             ),
             ShaderError::Naga(e) => write!(
                 f,

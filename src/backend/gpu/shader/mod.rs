@@ -29,11 +29,13 @@
 
 mod assembled;
 mod error;
+mod precision;
 #[cfg(test)]
 mod tests;
 
 pub use assembled::Assembled;
 pub use error::{NagaError, ShaderError};
+pub use precision::Precision;
 
 /// How a validated shader reaches the driver.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -133,8 +135,8 @@ pub fn modules() -> Vec<Source> {
     MODEL.iter().chain(ENGINE).copied().collect()
 }
 
-/// naga capabilities the shaders may use. They must stay within what
-/// [`super::context::REQUIRED_FEATURES`] asks of the device.
+/// naga capabilities the f64 sources may use ([`Precision::Exact`]); the mixed texts use
+/// none ([`Precision::capabilities`]).
 pub const CAPABILITIES: naga::valid::Capabilities = naga::valid::Capabilities::FLOAT64;
 
 /// Assembles the registered pass or probe called `name` (file stem, e.g. `contact_law_probe`).

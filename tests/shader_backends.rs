@@ -1,0 +1,101 @@
+//! Every pass and probe reaches every backend's compiler: naga writes it as SPIR-V (Vulkan),
+//! HLSL (DX12) and MSL (Metal), so a construct one of them cannot take fails here, on a machine
+//! without that hardware.
+//!
+//! At `Precision::Exact` (f64) SPIR-V and HLSL must take every pass. Metal has no f64 (naga's
+//! MSL writer stops at an f64 type as unreachable), so an f64 pass is never written as MSL: on
+//! Metal the passes run at `Precision::Mixed`, and there all three writers must take every pass,
+//! whose types must hold no f64.
+
+use dustdem::backend::gpu::shader::{self, Precision, Source};
+
+fn every_pass() -> impl Iterator<Item = &'static Source> {
+    shader::PASSES.iter().chain(shader::PROBES)
+}
+
+fn validated(pass: &Source, precision: Precision) -> (naga::Module, naga::valid::ModuleInfo) {
+    let assembled = shader::assemble(pass, &shader::modules())
+        .unwrap_or_else(|e| panic!("{e}"))
+        .with_precision(precision);
+    assembled.validate().unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn hlsl(module: &naga::Module, info: &naga::valid::ModuleInfo) -> Result<String, String> {
+    let options = naga::back::hlsl::Options {
+        shader_model: naga::back::hlsl::ShaderModel::V6_0,
+        ..Default::default()
+    };
+    let mut text = String::new();
+    let pipeline = naga::back::hlsl::PipelineOptions::default();
+    let mut writer = naga::back::hlsl::Writer::new(&mut text, &options, &pipeline);
+    writer
+        .write(module, info, None)
+        .map(|_| ())
+        .map_err(|e| e.to_string())?;
+    Ok(text)
+}
+
+fn msl(module: &naga::Module, info: &naga::valid::ModuleInfo) -> Result<String, String> {
+    let options = naga::back::msl::Options {
+        lang_version: (2, 4),
+        ..Default::default()
+    };
+    let pipeline = naga::back::msl::PipelineOptions::default();
+    naga::back::msl::write_string(module, info, &options, &pipeline)
+        .map(|(text, _)| text)
+        .map_err(|e| e.to_string())
+}
+
+fn spirv(module: &naga::Module, info: &naga::valid::ModuleInfo) -> Result<Vec<u32>, String> {
+    naga::back::spv::write_vec(module, info, &naga::back::spv::Options::default(), None)
+        .map_err(|e| e.to_string())
+}
+
+/// Whether any type of `module` is or holds an f64 scalar.
+fn has_f64(module: &naga::Module) -> bool {
+    let f64 = naga::Scalar::F64;
+    module.types.iter().any(|(_, ty)| match ty.inner {
+        naga::TypeInner::Scalar(s) => s == f64,
+        naga::TypeInner::Vector { scalar, .. } | naga::TypeInner::Matrix { scalar, .. } => {
+            scalar == f64
+        }
+        _ => false,
+    })
+}
+
+#[test]
+fn every_exact_pass_translates_for_vulkan_and_dx12() {
+    for pass in every_pass() {
+        let (module, info) = validated(pass, Precision::Exact);
+        let words = spirv(&module, &info).unwrap_or_else(|e| panic!("{}: SPIR-V: {e}", pass.path));
+        assert!(words.len() > 100, "{}", pass.path);
+        let text = hlsl(&module, &info).unwrap_or_else(|e| panic!("{}: HLSL: {e}", pass.path));
+        assert!(
+            text.contains("double"),
+            "{}: no double in the HLSL",
+            pass.path
+        );
+        assert!(has_f64(&module), "{}: an exact pass without f64", pass.path);
+    }
+}
+
+#[test]
+fn every_mixed_pass_translates_for_vulkan_dx12_and_metal() {
+    for pass in every_pass() {
+        let (module, info) = validated(pass, Precision::Mixed);
+        assert!(!has_f64(&module), "{}: f64 in a mixed pass", pass.path);
+        spirv(&module, &info).unwrap_or_else(|e| panic!("{}: SPIR-V: {e}", pass.path));
+        let text = hlsl(&module, &info).unwrap_or_else(|e| panic!("{}: HLSL: {e}", pass.path));
+        assert!(
+            !text.contains("double"),
+            "{}: double in the mixed HLSL",
+            pass.path
+        );
+        let metal = msl(&module, &info).unwrap_or_else(|e| panic!("{}: MSL: {e}", pass.path));
+        assert!(
+            metal.contains("kernel void"),
+            "{}: no kernel in the MSL",
+            pass.path
+        );
+    }
+}
