@@ -17,7 +17,6 @@
 use dustdem::backend::cpu::CpuEngine;
 use dustdem::backend::gpu::context::{GpuContext, Requirements};
 use dustdem::backend::gpu::engine::GpuEngine;
-use dustdem::backend::gpu::kernels::ENTRY_POINTS;
 use dustdem::backend::gpu::shader::FloatMode;
 use dustdem::config::Config;
 use dustdem::experiment::compression::Compression;
@@ -53,10 +52,7 @@ fn main() {
         float_mode_override().unwrap_or(probe.float_mode)
     );
     drop(probe);
-    let names: Vec<&str> = GpuEngine::passes()
-        .iter()
-        .map(|k| ENTRY_POINTS[*k as usize].1)
-        .collect();
+    let names: Vec<&str> = GpuEngine::passes().iter().map(|k| k.entry()).collect();
     let rounds: usize = std::env::var("DUSTDEM_BENCH_ROUNDS")
         .map(|s| s.parse().expect("DUSTDEM_BENCH_ROUNDS is an integer"))
         .unwrap_or(1)

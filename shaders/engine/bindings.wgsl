@@ -123,6 +123,8 @@ const FLAG_NEIGHBOURS: u32 = 5u;
 // Not an error: some monomer moved half the skin since the candidate lists were built (the
 // lowest such index); the neighbour passes rebuild them and the contacts pass lowers it.
 const FLAG_REBUILD: u32 = 6u;
+// Length of `flags` (room for one more flag); the host reads all of them back.
+const FLAG_COUNT: u32 = 8u;
 
 // Per-monomer cumulative energy channels (state::Dissipation, then the wall work).
 const TALLY_STRIDE: u32 = 8u;

@@ -8,7 +8,6 @@ use super::options::{Options, Threads, LAMMPS_RANKS};
 use crate::backend::cpu::{CpuEngine, PASS_NAMES};
 use crate::backend::gpu::context::{GpuContext, Requirements};
 use crate::backend::gpu::engine::GpuEngine;
-use crate::backend::gpu::kernels::ENTRY_POINTS;
 use crate::state::State;
 use std::time::Instant;
 
@@ -47,7 +46,7 @@ impl Side {
             }
             SideKind::Gpu => GpuEngine::passes()
                 .iter()
-                .map(|k| ENTRY_POINTS[*k as usize].1.to_string())
+                .map(|k| k.entry().to_string())
                 .collect(),
             SideKind::Lammps { .. } => LAMMPS_SECTIONS.iter().map(|s| s.to_string()).collect(),
         }

@@ -1,9 +1,10 @@
-//! The engine's device buffers, one per binding of shaders/engine/bindings.wgsl (same numbers,
-//! same order), and what they cost per monomer.
+//! The engine's device buffers, one per [`Binding`] of shaders/engine/bindings.wgsl, and what
+//! they cost per monomer.
 //!
 //! Buffers are data only; the pipelines that use them are in `kernels.rs`. Everything is created
 //! once for a fixed N and slot counts; nothing is reallocated while the engine runs.
 
+use super::interface::Binding;
 use super::layout::{
     GpuParams, GpuWall, ARGS_REBUILD, DIAG_SIZE, EVENT_LISTS, FLAG_COUNT, INCOMING_CAPACITY,
     MAX_WALLS, NEIGHBOUR_CAPACITY, REDUCE_BLOCK, ROW_PARTIALS, ROW_SUMS, SLOT_CHUNKS, TALLY_STRIDE,
@@ -14,71 +15,31 @@ use std::fmt;
 /// Bytes of one vec4<f64>.
 const VEC4: u64 = 32;
 
-/// Binding names in binding order (index = binding number of bindings.wgsl). A per-slot
-/// vector array is [`SLOT_CHUNKS`] bindings, `<array>_0` … `<array>_2`.
-pub const BINDINGS: [&str; 54] = [
-    "params",
-    "walls",
-    "position",
-    "velocity",
-    "angular_velocity",
-    "force",
-    "torque",
-    "damping_force",
-    "aux",
-    "tally",
-    "pair_n1_0",
-    "pair_n1_1",
-    "pair_n1_2",
-    "pair_n2_0",
-    "pair_n2_1",
-    "pair_n2_2",
-    "pair_partner",
-    "pair_count",
-    "pair_result_a_0",
-    "pair_result_a_1",
-    "pair_result_a_2",
-    "pair_result_b_0",
-    "pair_result_b_1",
-    "pair_result_b_2",
-    "pair_result_c_0",
-    "pair_result_c_1",
-    "pair_result_c_2",
-    "wall_n1",
-    "wall_anchor",
-    "wall_id",
-    "wall_count",
-    "wall_force",
-    "incoming",
-    "incoming_count",
-    "bucket_count",
-    "bucket_items",
-    "partials",
-    "flags",
-    "diag",
-    "neighbour_list",
-    "neighbour_count",
-    "reference_position",
-    "work_list",
-    "work",
-    "work_args",
-    "moving_walls",
-    "wall_table",
-    "contact_list",
-    "wall_damping",
-    "wall_torque",
-    "pair_tests",
-    "row_data",
-    "row_profile_data",
-    "row_bits",
-];
+impl Binding {
+    /// The binding whose buffer this one declares a second time, if any. `walls` is declared
+    /// three ways (bindings.wgsl): uniform for a wall index the same in every invocation,
+    /// read-only storage (`wall_table`) for a wall index that differs between invocations, and
+    /// writable storage (`moving_walls`) for the drift, which may not bind it otherwise in the
+    /// same dispatch.
+    pub fn shares_buffer_of(self) -> Option<Binding> {
+        match self {
+            Binding::MovingWalls | Binding::WallTable => Some(Binding::Walls),
+            _ => None,
+        }
+    }
+}
 
-/// Bindings that are another binding's buffer under a second declaration: (alias, buffer).
-/// `walls` is declared three ways (bindings.wgsl): uniform for a wall index the same in every
-/// invocation, read-only storage (`wall_table`) for a wall index that differs between
-/// invocations, and writable storage (`moving_walls`) for the drift, which may not bind it
-/// otherwise in the same dispatch.
-pub const ALIASES: [(&str, &str); 2] = [("moving_walls", "walls"), ("wall_table", "walls")];
+/// The chunk bindings of the per-slot pointer arrays (see `Sizes::slot_chunk`).
+pub const PAIR_N1: [Binding; SLOT_CHUNKS] = [
+    Binding::PairN1Chunk0,
+    Binding::PairN1Chunk1,
+    Binding::PairN1Chunk2,
+];
+pub const PAIR_N2: [Binding; SLOT_CHUNKS] = [
+    Binding::PairN2Chunk0,
+    Binding::PairN2Chunk1,
+    Binding::PairN2Chunk2,
+];
 
 /// The most bindings one pass uses (each pass binds only what its entry point reads or
 /// writes; `kernels::tests` derives this from the shaders with naga).
@@ -154,72 +115,51 @@ impl Sizes {
     }
 
     /// Bytes of every binding, in binding order.
-    pub fn binding_bytes(&self) -> [u64; 54] {
+    pub fn binding_bytes(&self) -> [u64; Binding::COUNT] {
+        Binding::ALL.map(|b| self.bytes(b))
+    }
+
+    /// Bytes of binding `b`.
+    pub fn bytes(&self, b: Binding) -> u64 {
         let n = self.monomers as u64;
         let ws = self.wall_slots as u64;
         let ps = self.pair_slots as u64;
-        let chunk = |c: usize| self.chunk_bytes(c);
         let blocks = self.monomers.div_ceil(REDUCE_BLOCK) as u64;
-        [
-            std::mem::size_of::<GpuParams>() as u64,
+        use Binding::*;
+        match b {
+            Params => std::mem::size_of::<GpuParams>() as u64,
             // The uniform declaration has room for every wall the diagnostics can hold.
-            MAX_WALLS as u64 * std::mem::size_of::<GpuWall>() as u64,
-            n * VEC4,
-            n * VEC4,
-            n * VEC4,
-            n * VEC4,
-            n * VEC4,
-            n * VEC4,
-            n * VEC4,
-            n * TALLY_STRIDE as u64 * 8,
-            chunk(0),
-            chunk(1),
-            chunk(2),
-            chunk(0),
-            chunk(1),
-            chunk(2),
-            n * ps * 4,
-            n * 4,
-            chunk(0),
-            chunk(1),
-            chunk(2),
-            chunk(0),
-            chunk(1),
-            chunk(2),
-            chunk(0),
-            chunk(1),
-            chunk(2),
-            n * ws * VEC4,
-            n * ws * VEC4,
-            n * ws * 4,
-            n * 4,
-            n * ws * VEC4,
-            n * INCOMING_CAPACITY as u64 * 4,
-            n * 4,
-            self.table as u64 * 4,
-            self.table as u64 * self.bucket_capacity as u64 * 4,
-            blocks * MAX_WALLS as u64 * VEC4,
-            FLAG_COUNT as u64 * 4,
-            DIAG_SIZE as u64 * 8,
-            n * NEIGHBOUR_CAPACITY as u64 * 4,
-            n * 4,
-            n * VEC4,
-            EVENT_LISTS as u64 * n * 4,
-            WORK_LISTS as u64 * 4,
-            3 * (ARGS_REBUILD as u64 + 1) * 4,
-            // moving_walls, wall_table: the walls buffer again (ALIASES), no memory of their own.
-            0,
-            0,
-            n * ps * 4,
-            n * ws * VEC4,
-            n * ws * VEC4,
-            n * 4,
-            (ROW_PARTIALS + ROW_SUMS * blocks as usize) as u64 * 8,
+            Walls => MAX_WALLS as u64 * std::mem::size_of::<GpuWall>() as u64,
+            Position | Velocity | AngularVelocity | Force | Torque | DampingForce | Aux
+            | ReferencePosition => n * VEC4,
+            Tally => n * TALLY_STRIDE as u64 * 8,
+            PairN1Chunk0 | PairN2Chunk0 | PairResultAChunk0 | PairResultBChunk0
+            | PairResultCChunk0 => self.chunk_bytes(0),
+            PairN1Chunk1 | PairN2Chunk1 | PairResultAChunk1 | PairResultBChunk1
+            | PairResultCChunk1 => self.chunk_bytes(1),
+            PairN1Chunk2 | PairN2Chunk2 | PairResultAChunk2 | PairResultBChunk2
+            | PairResultCChunk2 => self.chunk_bytes(2),
+            PairPartner | ContactList => n * ps * 4,
+            PairCount | WallCount | IncomingCount | NeighbourCount | PairTests => n * 4,
+            WallN1 | WallAnchor | WallForce | WallDamping | WallTorque => n * ws * VEC4,
+            WallId => n * ws * 4,
+            Incoming => n * INCOMING_CAPACITY as u64 * 4,
+            BucketCount => self.table as u64 * 4,
+            BucketItems => self.table as u64 * self.bucket_capacity as u64 * 4,
+            Partials => blocks * MAX_WALLS as u64 * VEC4,
+            Flags => FLAG_COUNT as u64 * 4,
+            Diag => DIAG_SIZE as u64 * 8,
+            NeighbourList => n * NEIGHBOUR_CAPACITY as u64 * 4,
+            WorkList => EVENT_LISTS as u64 * n * 4,
+            Work => WORK_LISTS as u64 * 4,
+            WorkArgs => 3 * (ARGS_REBUILD as u64 + 1) * 4,
+            // The walls buffer again (shares_buffer_of), no memory of their own.
+            MovingWalls | WallTable => 0,
+            RowData => (ROW_PARTIALS + ROW_SUMS * blocks as usize) as u64 * 8,
             // The profile's and the raster's scratch start empty and grow on demand
             // (engine::rows): their size depends on the walls and on the sample's extent.
-            0,
-            0,
-        ]
+            RowProfileData | RowBits => 0,
+        }
     }
 
     /// Total device memory [B].
@@ -241,7 +181,7 @@ impl Sizes {
                 largest = i;
             }
         }
-        (BINDINGS[largest], bytes[largest])
+        (Binding::ALL[largest].name(), bytes[largest])
     }
 
     /// Checks the problem against the device's limits.
@@ -356,21 +296,20 @@ pub const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
 impl Buffers {
     /// Zero-filled buffers (at least 64 bytes each: no binding may be empty).
     pub fn new(device: &wgpu::Device, sizes: Sizes) -> Self {
-        let mut bindings: Vec<wgpu::Buffer> = Vec::with_capacity(BINDINGS.len());
-        for (name, bytes) in BINDINGS.iter().zip(sizes.binding_bytes()) {
-            if let Some((_, target)) = ALIASES.iter().find(|(alias, _)| alias == name) {
-                let at = BINDINGS.iter().position(|b| b == target).expect("aliased");
-                bindings.push(bindings[at].clone());
+        let mut bindings: Vec<wgpu::Buffer> = Vec::with_capacity(Binding::COUNT);
+        for binding in Binding::ALL {
+            if let Some(target) = binding.shares_buffer_of() {
+                bindings.push(bindings[target as usize].clone());
                 continue;
             }
             bindings.push(device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(name),
-                size: bytes.max(64).next_multiple_of(8),
-                // Indirect dispatch arguments, written on the device.
-                usage: match *name {
-                    "work_args" => STORAGE | wgpu::BufferUsages::INDIRECT,
+                label: Some(binding.name()),
+                size: sizes.bytes(binding).max(64).next_multiple_of(8),
+                usage: match binding {
+                    // Indirect dispatch arguments, written on the device.
+                    Binding::WorkArgs => STORAGE | wgpu::BufferUsages::INDIRECT,
                     // Bound as `var<uniform>` (kernels::buffer_binding_type).
-                    "params" | "walls" => STORAGE | wgpu::BufferUsages::UNIFORM,
+                    Binding::Params | Binding::Walls => STORAGE | wgpu::BufferUsages::UNIFORM,
                     _ => STORAGE,
                 },
                 mapped_at_creation: false,
@@ -389,22 +328,15 @@ impl Buffers {
         }
     }
 
-    pub fn get(&self, name: &str) -> &wgpu::Buffer {
-        &self.bindings[Self::index(name)]
+    pub fn get(&self, binding: Binding) -> &wgpu::Buffer {
+        &self.bindings[binding as usize]
     }
 
-    fn index(name: &str) -> usize {
-        BINDINGS
-            .iter()
-            .position(|b| *b == name)
-            .unwrap_or_else(|| panic!("no binding `{name}`"))
-    }
-
-    /// Replaces the buffer of binding `name` by a zero-filled one of at least `bytes` (a
-    /// scratch buffer that has to grow); the bind groups must be built again.
-    pub fn grow(&mut self, device: &wgpu::Device, name: &'static str, bytes: u64) {
-        self.bindings[Self::index(name)] = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some(name),
+    /// Replaces the buffer of `binding` by a zero-filled one of at least `bytes` (a scratch
+    /// buffer that has to grow); the bind groups must be built again.
+    pub fn grow(&mut self, device: &wgpu::Device, binding: Binding, bytes: u64) {
+        self.bindings[binding as usize] = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(binding.name()),
             size: bytes.max(64).next_multiple_of(8),
             usage: STORAGE,
             mapped_at_creation: false,

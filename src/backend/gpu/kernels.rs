@@ -11,62 +11,7 @@ use super::quirks;
 use super::shader::{assemble_pass, Assembled, ShaderError};
 use super::spirv::entry_bindings;
 
-/// Entry points in step order, with the pass file (without `.wgsl`) that holds each.
-pub const ENTRY_POINTS: [(&str, &str); 24] = [
-    ("integrate", "integrate_kick"),
-    ("integrate", "integrate_pairs"),
-    ("integrate", "integrate_drift"),
-    ("neighbours", "neighbours"),
-    ("neighbours", "neighbours_list"),
-    ("contacts", "contacts_scan"),
-    ("contacts", "contacts"),
-    ("forces", "forces_corrections"),
-    ("forces", "forces"),
-    ("walls", "wall_contacts"),
-    ("walls", "wall_forces"),
-    ("reduce", "reduce_walls_final"),
-    ("reduce", "reduce_diagnostics"),
-    ("integrate", "integrate_start"),
-    ("integrate", "integrate_clear_work"),
-    ("contacts", "contacts_clear_tally"),
-    ("contacts", "contacts_pair_tests"),
-    ("integrate", "integrate_kick_with_wall_sums"),
-    ("rows", "row_sums"),
-    ("rows", "row_sums_final"),
-    ("rows", "row_profile"),
-    ("rows", "row_profile_final"),
-    ("rows", "row_raster"),
-    ("rows", "row_area"),
-];
-
-/// Index of an entry point in [`ENTRY_POINTS`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Kernel {
-    IntegrateKick = 0,
-    IntegratePairs,
-    IntegrateDrift,
-    Neighbours,
-    NeighboursList,
-    ContactsScan,
-    Contacts,
-    ForcesCorrections,
-    Forces,
-    WallContacts,
-    WallForces,
-    ReduceWallsFinal,
-    ReduceDiagnostics,
-    IntegrateStart,
-    IntegrateClearWork,
-    ContactsClearTally,
-    ContactsPairTests,
-    IntegrateKickWithWallSums,
-    RowSums,
-    RowSumsFinal,
-    RowProfile,
-    RowProfileFinal,
-    RowRaster,
-    RowArea,
-}
+pub use super::interface::Kernel;
 
 impl Kernel {
     /// Where in the `work_args` buffer the indirect dispatch arguments of a pass dispatched
@@ -110,7 +55,7 @@ pub fn used_bindings(pass: &Assembled, entry: &str) -> Result<Vec<u32>, ShaderEr
 
 #[derive(Debug)]
 pub struct Kernels {
-    /// Per entry point (in [`ENTRY_POINTS`] order): its bindings and their layout.
+    /// Per entry point (in [`Kernel::ALL`] order): its bindings and their layout.
     bindings: Vec<Vec<u32>>,
     layouts: Vec<wgpu::BindGroupLayout>,
     pipelines: Vec<wgpu::ComputePipeline>,
@@ -132,7 +77,8 @@ impl Kernels {
             layouts: Vec::new(),
             pipelines: Vec::new(),
         };
-        for (pass, entry) in ENTRY_POINTS {
+        for kernel in Kernel::ALL {
+            let (pass, entry) = (kernel.pass(), kernel.entry());
             if !passes.iter().any(|(p, _)| *p == pass) {
                 let mut assembled = assemble_pass(pass)?;
                 if one_slot_chunk {
@@ -192,13 +138,14 @@ impl Kernels {
         &self.pipelines[kernel as usize]
     }
 
-    /// One bind group of `buffers` per entry point, in [`ENTRY_POINTS`] order (built once per
+    /// One bind group of `buffers` per entry point, in [`Kernel::ALL`] order (built once per
     /// engine).
     pub fn bind_groups(&self, device: &wgpu::Device, buffers: &Buffers) -> Vec<wgpu::BindGroup> {
-        ENTRY_POINTS
+        Kernel::ALL
             .iter()
             .enumerate()
-            .map(|(k, (_, entry))| {
+            .map(|(k, kernel)| {
+                let entry = kernel.entry();
                 let entries: Vec<wgpu::BindGroupEntry> = self.bindings[k]
                     .iter()
                     .map(|&binding| wgpu::BindGroupEntry {
@@ -219,15 +166,15 @@ impl Kernels {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::backend::gpu::buffers::BINDINGS;
+    use crate::backend::gpu::interface::Binding;
 
     /// The bindings of every entry point, from the shaders (no GPU needed).
     fn per_entry_point() -> Vec<(&'static str, Vec<u32>)> {
-        ENTRY_POINTS
+        Kernel::ALL
             .iter()
-            .map(|(pass, entry)| {
-                let assembled = assemble_pass(pass).unwrap();
-                (*entry, used_bindings(&assembled, entry).unwrap())
+            .map(|k| {
+                let assembled = assemble_pass(k.pass()).unwrap();
+                (k.entry(), used_bindings(&assembled, k.entry()).unwrap())
             })
             .collect()
     }
@@ -236,33 +183,18 @@ mod tests {
     fn no_pass_binds_more_than_the_stated_maximum_and_one_reaches_it() {
         let all = per_entry_point();
         for (entry, bindings) in &all {
-            let names: Vec<&str> = bindings.iter().map(|&b| BINDINGS[b as usize]).collect();
+            let names: Vec<&str> = bindings
+                .iter()
+                .map(|&b| Binding::ALL[b as usize].name())
+                .collect();
             eprintln!("{entry}: {} bindings {names:?}", bindings.len());
         }
         let most = all.iter().map(|(_, b)| b.len()).max().unwrap() as u32;
         assert_eq!(most, MAX_BINDINGS_PER_PASS);
         assert!(
-            BINDINGS.len() > 32,
+            Binding::COUNT > 32,
             "the engine as a whole declares more than one pass binds"
         );
-    }
-
-    #[test]
-    fn binding_names_and_numbers_match_the_wgsl() {
-        // Any pass declares every binding (they all include bindings.wgsl).
-        let (module, _) = assemble_pass("forces").unwrap().validate().unwrap();
-        let mut declared: Vec<(u32, String)> = module
-            .global_variables
-            .iter()
-            .filter_map(|(_, v)| Some((v.binding.as_ref()?.binding, v.name.clone()?)))
-            .collect();
-        declared.sort();
-        let expected: Vec<(u32, String)> = BINDINGS
-            .iter()
-            .enumerate()
-            .map(|(i, name)| (i as u32, name.to_string()))
-            .collect();
-        assert_eq!(declared, expected);
     }
 
     #[test]
@@ -270,35 +202,8 @@ mod tests {
         use crate::backend::gpu::layout::{
             DIAG_THREADS, MONOMER_GROUP, PAIR_GROUP, REDUCE_BLOCK, WORK_GROUP,
         };
-        let kernels = [
-            Kernel::IntegrateKick,
-            Kernel::IntegratePairs,
-            Kernel::IntegrateDrift,
-            Kernel::Neighbours,
-            Kernel::NeighboursList,
-            Kernel::ContactsScan,
-            Kernel::Contacts,
-            Kernel::ForcesCorrections,
-            Kernel::Forces,
-            Kernel::WallContacts,
-            Kernel::WallForces,
-            Kernel::ReduceWallsFinal,
-            Kernel::ReduceDiagnostics,
-            Kernel::IntegrateStart,
-            Kernel::IntegrateClearWork,
-            Kernel::ContactsClearTally,
-            Kernel::ContactsPairTests,
-            Kernel::IntegrateKickWithWallSums,
-            Kernel::RowSums,
-            Kernel::RowSumsFinal,
-            Kernel::RowProfile,
-            Kernel::RowProfileFinal,
-            Kernel::RowRaster,
-            Kernel::RowArea,
-        ];
-        assert_eq!(kernels.len(), ENTRY_POINTS.len());
-        for kernel in kernels {
-            let (pass, entry) = ENTRY_POINTS[kernel as usize];
+        for kernel in Kernel::ALL {
+            let (pass, entry) = (kernel.pass(), kernel.entry());
             let (module, _) = assemble_pass(pass).unwrap().validate().unwrap();
             let size = module
                 .entry_points
@@ -325,9 +230,10 @@ mod tests {
     #[test]
     fn every_binding_is_used_by_some_pass() {
         let all = per_entry_point();
-        for (b, name) in BINDINGS.iter().enumerate() {
+        for binding in Binding::ALL {
+            let name = binding.name();
             assert!(
-                all.iter().any(|(_, used)| used.contains(&(b as u32))),
+                all.iter().any(|(_, used)| used.contains(&(binding as u32))),
                 "{name} is bound by no pass"
             );
         }

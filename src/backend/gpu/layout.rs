@@ -1,5 +1,5 @@
-//! Host encodings of values the WGSL modules take as structs. Keep in sync with the WGSL
-//! declarations named on each item; the tests in `twins` tie the numbers together.
+//! Host encodings of values the WGSL modules take as structs (their layouts are held to naga's
+//! reading of the WGSL by the tests below), and the numbers the WGSL declares, generated.
 
 use crate::material::ContactConstants;
 use crate::model::Damping;
@@ -122,63 +122,16 @@ pub struct GpuWall {
 
 const _: () = assert!(std::mem::size_of::<GpuWall>() == 192);
 
-/// The block sizes of the fixed summation order both backends follow (`state::reduction`),
-/// which bindings.wgsl declares too.
+/// The numbers the WGSL declares (work lists, flags, the diagnostics and row blocks), generated
+/// from shaders/engine/bindings.wgsl at build time (`backend::gpu::interface`).
+pub use super::interface::wgsl_constants::*;
+/// The block sizes of the fixed summation order both backends follow (`state::reduction`) and
+/// the row sums: the CPU engine owns these numbers; bindings.wgsl declares them too, and
+/// `tests` holds the two equal.
 pub use crate::state::reduction::{DIAG_THREADS, REDUCE_BLOCK, TALLY_STRIDE};
-/// Numbers shared with shaders/engine/bindings.wgsl; `tests` checks them against the WGSL.
-pub const MAX_WALLS: usize = 8;
-pub const INCOMING_CAPACITY: usize = 16;
-pub const NEIGHBOUR_CAPACITY: usize = 24;
-pub const SLOT_CHUNKS: usize = 3;
-/// Work lists (bindings.wgsl `work_list`, lengths in `work`, indirect dispatch arguments in
-/// `work_args`, three words per list), and the workgroup size of the passes dispatched over a
-/// list.
-/// The owners with contact events, inelastic corrections or wall contacts (the contacts pass).
-pub const WORK_CONTACTS: usize = 0;
-/// The pair-contact list (`contact_list`), for the passes run one invocation per contact.
-pub const WORK_PAIRS: usize = 1;
-pub const WORK_LISTS: usize = 2;
-/// Indirect dispatch arguments of the neighbour passes, after the lists' in `work_args`.
-pub const ARGS_REBUILD: usize = 2;
-/// The lists in `work_list` (filled by contacts_scan, emptied by integrate_drift).
-pub const EVENT_LISTS: usize = 1;
-pub const WORK_GROUP: usize = 8;
-/// Workgroup size of the passes over the pair-contact list.
-pub const PAIR_GROUP: usize = 64;
-/// Workgroup size of the passes with one invocation per monomer.
-pub const MONOMER_GROUP: usize = 64;
-pub const DIAG_PAIR_CONTACTS: usize = 8;
-pub const DIAG_WALL_CONTACTS: usize = 9;
-pub const DIAG_STEPS: usize = 10;
-pub const DIAG_WALL_FORCE: usize = 16;
-pub const DIAG_WALL_FORCE_SUM: usize = 48;
-pub const DIAG_SIZE: usize = 80;
-/// Where the row kernels (shaders/passes/rows.wgsl) find their parameters and leave their
-/// results in `row_data`.
-pub const ROW_MASS: usize = 0;
-pub const ROW_INERTIA: usize = 1;
-pub const ROW_SPHERE: usize = 2;
-pub const ROW_SLAB_BOTTOM: usize = 3;
-pub const ROW_SLAB_THICKNESS: usize = 4;
-pub const ROW_SLABS: usize = 5;
-pub const ROW_X0: usize = 6;
-pub const ROW_Y0: usize = 7;
-pub const ROW_PIXEL: usize = 8;
-pub const ROW_NX: usize = 9;
-pub const ROW_NY: usize = 10;
-pub const ROW_RESULTS: usize = 16;
 pub use crate::state::rows::ROW_SUMS;
-pub const ROW_PARTIALS: usize = 24;
-/// Flags: index into the flags array, and what overflowed.
-pub const FLAG_PAIR_SLOTS: usize = 0;
-pub const FLAG_WALL_SLOTS: usize = 1;
-pub const FLAG_BUCKET: usize = 2;
-pub const FLAG_INCOMING: usize = 3;
-pub const FLAG_NON_FINITE: usize = 4;
-pub const FLAG_NEIGHBOURS: usize = 5;
-pub const FLAG_REBUILD: usize = 6;
-pub const FLAG_COUNT: usize = 8;
-pub const NO_MONOMER: u32 = u32::MAX;
+/// No monomer (a flag not raised), as the u32 the flags hold.
+pub const NO_MONOMER: u32 = super::interface::wgsl_constants::NO_MONOMER as u32;
 
 pub fn vec4(v: glam::DVec3) -> [f64; 4] {
     [v.x, v.y, v.z, 0.0]
@@ -281,65 +234,12 @@ mod tests {
     }
 
     #[test]
-    fn shared_numbers_match_the_wgsl_constants() {
-        let module = engine_module();
-        let constant = |name: &str| -> u64 {
-            let (_, c) = module
-                .constants
-                .iter()
-                .find(|(_, c)| c.name.as_deref() == Some(name))
-                .unwrap_or_else(|| panic!("no const {name}"));
-            match module.global_expressions[c.init] {
-                naga::Expression::Literal(naga::Literal::U32(v)) => u64::from(v),
-                ref other => panic!("{name}: {other:?}"),
-            }
-        };
-        for (name, value) in [
-            ("MAX_WALLS", MAX_WALLS),
-            ("INCOMING_CAPACITY", INCOMING_CAPACITY),
-            ("REDUCE_BLOCK", REDUCE_BLOCK),
-            ("DIAG_THREADS", DIAG_THREADS),
-            ("TALLY_STRIDE", TALLY_STRIDE),
-            ("DIAG_PAIR_CONTACTS", DIAG_PAIR_CONTACTS),
-            ("DIAG_WALL_CONTACTS", DIAG_WALL_CONTACTS),
-            ("DIAG_STEPS", DIAG_STEPS),
-            ("DIAG_WALL_FORCE", DIAG_WALL_FORCE),
-            ("DIAG_WALL_FORCE_SUM", DIAG_WALL_FORCE_SUM),
-            ("DIAG_SIZE", DIAG_SIZE),
-            ("ROW_MASS", ROW_MASS),
-            ("ROW_INERTIA", ROW_INERTIA),
-            ("ROW_SPHERE", ROW_SPHERE),
-            ("ROW_SLAB_BOTTOM", ROW_SLAB_BOTTOM),
-            ("ROW_SLAB_THICKNESS", ROW_SLAB_THICKNESS),
-            ("ROW_SLABS", ROW_SLABS),
-            ("ROW_X0", ROW_X0),
-            ("ROW_Y0", ROW_Y0),
-            ("ROW_PIXEL", ROW_PIXEL),
-            ("ROW_NX", ROW_NX),
-            ("ROW_NY", ROW_NY),
-            ("ROW_RESULTS", ROW_RESULTS),
-            ("ROW_SUMS", ROW_SUMS),
-            ("ROW_PARTIALS", ROW_PARTIALS),
-            ("FLAG_PAIR_SLOTS", FLAG_PAIR_SLOTS),
-            ("FLAG_WALL_SLOTS", FLAG_WALL_SLOTS),
-            ("FLAG_BUCKET", FLAG_BUCKET),
-            ("FLAG_INCOMING", FLAG_INCOMING),
-            ("FLAG_NON_FINITE", FLAG_NON_FINITE),
-            ("FLAG_NEIGHBOURS", FLAG_NEIGHBOURS),
-            ("FLAG_REBUILD", FLAG_REBUILD),
-            ("NEIGHBOUR_CAPACITY", NEIGHBOUR_CAPACITY),
-            ("SLOT_CHUNKS", SLOT_CHUNKS),
-            ("WORK_CONTACTS", WORK_CONTACTS),
-            ("WORK_PAIRS", WORK_PAIRS),
-            ("WORK_LISTS", WORK_LISTS),
-            ("ARGS_REBUILD", ARGS_REBUILD),
-            ("EVENT_LISTS", EVENT_LISTS),
-            ("WORK_GROUP", WORK_GROUP),
-            ("PAIR_GROUP", PAIR_GROUP),
-            ("MONOMER_GROUP", MONOMER_GROUP),
-            ("NO_MONOMER", NO_MONOMER as usize),
-        ] {
-            assert_eq!(constant(name), value as u64, "{name}");
-        }
+    fn numbers_the_cpu_engine_owns_match_the_wgsl() {
+        use super::super::interface::wgsl_constants as wgsl;
+        assert_eq!(wgsl::DIAG_THREADS, DIAG_THREADS);
+        assert_eq!(wgsl::REDUCE_BLOCK, REDUCE_BLOCK);
+        assert_eq!(wgsl::TALLY_STRIDE, TALLY_STRIDE);
+        assert_eq!(wgsl::ROW_SUMS, ROW_SUMS);
+        assert_eq!(NO_MONOMER, u32::MAX);
     }
 }

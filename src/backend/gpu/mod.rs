@@ -7,6 +7,7 @@
 pub mod buffers;
 pub mod context;
 pub mod engine;
+pub mod interface;
 pub mod kernels;
 pub mod layout;
 pub mod quirks;

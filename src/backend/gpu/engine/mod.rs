@@ -65,7 +65,7 @@ pub struct GpuEngine {
     work_groups_max: u32,
     kernels: Kernels,
     buffers: Buffers,
-    /// One per entry point, in kernels::ENTRY_POINTS order.
+    /// One per entry point, in Kernel::ALL order.
     bind_groups: Vec<wgpu::BindGroup>,
     pub step: u64,
     /// Simulated time [s], [`simulated_time`] of `step`.

@@ -4,8 +4,10 @@
 
 use super::{Diagnostics, GpuEngine, GpuError};
 use crate::backend::gpu::buffers::Buffers;
+use crate::backend::gpu::buffers::{PAIR_N1, PAIR_N2};
 use crate::backend::gpu::context::GpuContext;
-use crate::backend::gpu::kernels::Kernel;
+use crate::backend::gpu::interface::{Binding, Kernel};
+use crate::backend::gpu::layout::SLOT_CHUNKS;
 use crate::backend::gpu::layout::{self, GpuWall};
 use crate::engine::EngineError;
 use crate::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
@@ -15,12 +17,12 @@ impl GpuEngine {
     pub(super) fn clear_wall_force_sum(&self) {
         let zeros = [0.0f64; layout::DIAG_SIZE - layout::DIAG_WALL_FORCE_SUM];
         self.ctx.queue.write_buffer(
-            self.buffers.get("diag"),
+            self.buffers.get(Binding::Diag),
             (layout::DIAG_WALL_FORCE_SUM * 8) as u64,
             bytemuck::cast_slice(&zeros),
         );
         self.ctx.queue.write_buffer(
-            self.buffers.get("diag"),
+            self.buffers.get(Binding::Diag),
             (layout::DIAG_STEPS * 8) as u64,
             bytemuck::bytes_of(&0.0f64),
         );
@@ -38,21 +40,21 @@ impl GpuEngine {
         let flags_at = 0;
         let diag_at = flag_bytes.next_multiple_of(8);
         encoder.copy_buffer_to_buffer(
-            self.buffers.get("flags"),
+            self.buffers.get(Binding::Flags),
             0,
             &self.buffers.small_readback,
             flags_at,
             flag_bytes,
         );
         encoder.copy_buffer_to_buffer(
-            self.buffers.get("diag"),
+            self.buffers.get(Binding::Diag),
             0,
             &self.buffers.small_readback,
             diag_at,
             (layout::DIAG_SIZE * 8) as u64,
         );
         // Counted from here on: the totals live on the host.
-        encoder.clear_buffer(self.buffers.get("tally"), 0, None);
+        encoder.clear_buffer(self.buffers.get(Binding::Tally), 0, None);
         self.ctx.queue.submit([encoder.finish()]);
         let bytes = self.map_counted(&self.buffers.small_readback, Buffers::small_bytes())?;
         let flags: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes[..flag_bytes as usize]);
@@ -145,7 +147,7 @@ impl GpuEngine {
         &self.diagnostics.wall_force
     }
 
-    pub(super) fn read<T: bytemuck::Pod>(&self, name: &str, count: usize) -> Vec<T> {
+    pub(super) fn read<T: bytemuck::Pod>(&self, binding: Binding, count: usize) -> Vec<T> {
         let bytes = (count * std::mem::size_of::<T>()) as u64;
         if bytes == 0 {
             return Vec::new();
@@ -158,7 +160,7 @@ impl GpuEngine {
         });
         let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
         encoder.copy_buffer_to_buffer(
-            self.buffers.get(name),
+            self.buffers.get(binding),
             0,
             &staging,
             0,
@@ -169,7 +171,7 @@ impl GpuEngine {
         // in between is a narrow race, reported here with what failed.
         let raw = self
             .map_counted(&staging, bytes.next_multiple_of(8))
-            .unwrap_or_else(|e| panic!("reading `{name}` back from the GPU: {e}"));
+            .unwrap_or_else(|e| panic!("reading `{}` back from the GPU: {e}", binding.name()));
         bytemuck::pod_collect_to_vec(&raw[..bytes as usize])
     }
 
@@ -185,7 +187,7 @@ impl GpuEngine {
     }
 
     /// A per-slot vector array, gathered from its chunk bindings.
-    fn read_slots(&self, array: &str, count: usize) -> Vec<[f64; 4]> {
+    fn read_slots(&self, chunks: [Binding; SLOT_CHUNKS], count: usize) -> Vec<[f64; 4]> {
         let chunk = self.sizes.slot_chunk();
         let mut out = Vec::with_capacity(count);
         for c in 0..layout::SLOT_CHUNKS {
@@ -193,13 +195,13 @@ impl GpuEngine {
             if part == 0 {
                 break;
             }
-            out.extend(self.read::<[f64; 4]>(&format!("{array}_{c}"), part));
+            out.extend(self.read::<[f64; 4]>(chunks[c], part));
         }
         out
     }
 
-    fn read_vec3(&self, name: &str, count: usize) -> Vec<DVec3> {
-        self.read::<[f64; 4]>(name, count)
+    fn read_vec3(&self, binding: Binding, count: usize) -> Vec<DVec3> {
+        self.read::<[f64; 4]>(binding, count)
             .into_iter()
             .map(|v| DVec3::new(v[0], v[1], v[2]))
             .collect()
@@ -207,20 +209,20 @@ impl GpuEngine {
 
     /// Positions at the current time (a full-array readback).
     pub fn positions(&self) -> Vec<DVec3> {
-        self.read_vec3("position", self.sizes.monomers)
+        self.read_vec3(Binding::Position, self.sizes.monomers)
     }
 
     /// The monomers as the CPU engine stores them.
     pub fn monomers(&self) -> Monomers {
         let n = self.sizes.monomers;
-        let aux: Vec<[f64; 4]> = self.read("aux", n);
+        let aux: Vec<[f64; 4]> = self.read(Binding::Aux, n);
         Monomers {
             position: self.positions(),
-            velocity: self.read_vec3("velocity", n),
-            angular_velocity: self.read_vec3("angular_velocity", n),
-            force: self.read_vec3("force", n),
-            torque: self.read_vec3("torque", n),
-            damping_force: self.read_vec3("damping_force", n),
+            velocity: self.read_vec3(Binding::Velocity, n),
+            angular_velocity: self.read_vec3(Binding::AngularVelocity, n),
+            force: self.read_vec3(Binding::Force, n),
+            torque: self.read_vec3(Binding::Torque, n),
+            damping_force: self.read_vec3(Binding::DampingForce, n),
             inverse_mass_scale: aux.iter().map(|a| a[0]).collect(),
             inverse_inertia_scale: aux.iter().map(|a| a[1]).collect(),
             id: self.ids.clone(),
@@ -233,10 +235,10 @@ impl GpuEngine {
         let n = self.sizes.monomers;
         let (ps, ws) = (self.sizes.pair_slots, self.sizes.wall_slots);
         let mut table = ContactTable::new(n, ps, ws);
-        let n1 = self.read_slots("pair_n1", n * ps);
-        let n2 = self.read_slots("pair_n2", n * ps);
-        let partner: Vec<u32> = self.read("pair_partner", n * ps);
-        table.pair_count = self.read("pair_count", n);
+        let n1 = self.read_slots(PAIR_N1, n * ps);
+        let n2 = self.read_slots(PAIR_N2, n * ps);
+        let partner: Vec<u32> = self.read(Binding::PairPartner, n * ps);
+        table.pair_count = self.read(Binding::PairCount, n);
         for (k, c) in table.pair.iter_mut().enumerate() {
             *c = PairContact {
                 partner: partner[k],
@@ -245,10 +247,10 @@ impl GpuEngine {
                 twist: n1[k][3],
             };
         }
-        let wn1: Vec<[f64; 4]> = self.read("wall_n1", n * ws);
-        let anchor: Vec<[f64; 4]> = self.read("wall_anchor", n * ws);
-        let wall_id: Vec<u32> = self.read("wall_id", n * ws);
-        table.wall_count = self.read("wall_count", n);
+        let wn1: Vec<[f64; 4]> = self.read(Binding::WallN1, n * ws);
+        let anchor: Vec<[f64; 4]> = self.read(Binding::WallAnchor, n * ws);
+        let wall_id: Vec<u32> = self.read(Binding::WallId, n * ws);
+        table.wall_count = self.read(Binding::WallCount, n);
         for (k, c) in table.wall.iter_mut().enumerate() {
             *c = WallContact {
                 wall: wall_id[k],
@@ -263,12 +265,15 @@ impl GpuEngine {
     /// Force of every wall-contact slot on its wall (`i * wall_slots + slot`), as the walls
     /// pass left it for the reduction.
     pub fn slot_wall_forces(&self) -> Vec<DVec3> {
-        self.read_vec3("wall_force", self.sizes.monomers * self.sizes.wall_slots)
+        self.read_vec3(
+            Binding::WallForce,
+            self.sizes.monomers * self.sizes.wall_slots,
+        )
     }
 
     /// Walls with their current points as the device holds them.
     pub fn current_walls(&self) -> Vec<Wall> {
-        let gpu: Vec<GpuWall> = self.read("walls", self.walls.len());
+        let gpu: Vec<GpuWall> = self.read(Binding::Walls, self.walls.len());
         self.walls
             .iter()
             .zip(gpu)
@@ -282,7 +287,7 @@ impl GpuEngine {
     /// Per-monomer energy tallies (the seven dissipation channels, then the wall work) since
     /// the small block was last read.
     pub fn monomer_tallies(&self) -> Vec<[f64; layout::TALLY_STRIDE]> {
-        self.read("tally", self.sizes.monomers)
+        self.read(Binding::Tally, self.sizes.monomers)
     }
 }
 

@@ -5,7 +5,7 @@
 //! second, since the raster's grid is sized by the extent the first one found.
 
 use super::{groups, GpuEngine, GpuError};
-use crate::backend::gpu::kernels::Kernel;
+use crate::backend::gpu::interface::{Binding, Kernel};
 use crate::backend::gpu::layout::{self, MONOMER_GROUP, REDUCE_BLOCK, ROW_SUMS};
 use crate::state::rows::{sphere_volume, Raster, RowMeasures, RowRequest};
 use crate::state::EnergyReport;
@@ -20,7 +20,7 @@ impl GpuEngine {
         let slabs = request.slabs.filter(|s| s.count > 0 && n > 0);
         let count = slabs.map_or(0, |s| s.count);
         // Solid volume per slab, then per (slab, block).
-        self.ensure_scratch("row_profile_data", (count * (blocks + 1) * 8) as u64);
+        self.ensure_scratch(Binding::RowProfileData, (count * (blocks + 1) * 8) as u64);
         let mut header = [0.0f64; layout::ROW_NY + 1];
         header[layout::ROW_MASS] = self.law.mass;
         header[layout::ROW_INERTIA] = self.law.moment_of_inertia;
@@ -48,7 +48,7 @@ impl GpuEngine {
         }
         let sums_bytes = (ROW_SUMS * 8) as u64;
         encoder.copy_buffer_to_buffer(
-            self.buffers.get("row_data"),
+            self.buffers.get(Binding::RowData),
             (layout::ROW_RESULTS * 8) as u64,
             &self.row_readback,
             0,
@@ -56,7 +56,7 @@ impl GpuEngine {
         );
         if count > 0 {
             encoder.copy_buffer_to_buffer(
-                self.buffers.get("row_profile_data"),
+                self.buffers.get(Binding::RowProfileData),
                 0,
                 &self.row_readback,
                 sums_bytes,
@@ -101,14 +101,14 @@ impl GpuEngine {
     fn covered_area(&mut self, grid: Raster) -> Result<f64, GpuError> {
         let words = grid.words();
         let bits_bytes = ((1 + words) * 4) as u64;
-        self.ensure_scratch("row_bits", bits_bytes);
+        self.ensure_scratch(Binding::RowBits, bits_bytes);
         self.write_row_data(
             layout::ROW_X0,
             &[grid.x0, grid.y0, grid.pixel, grid.nx as f64, grid.ny as f64],
         );
         let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
         encoder.clear_buffer(
-            self.buffers.get("row_bits"),
+            self.buffers.get(Binding::RowBits),
             0,
             Some(bits_bytes.next_multiple_of(4)),
         );
@@ -118,7 +118,13 @@ impl GpuEngine {
             let word_groups = groups(words).min(self.work_groups_max);
             self.dispatch_row(&mut pass, Kernel::RowArea, word_groups);
         }
-        encoder.copy_buffer_to_buffer(self.buffers.get("row_bits"), 0, &self.row_readback, 0, 4);
+        encoder.copy_buffer_to_buffer(
+            self.buffers.get(Binding::RowBits),
+            0,
+            &self.row_readback,
+            0,
+            4,
+        );
         self.ctx.queue.submit([encoder.finish()]);
         let raw = self.map_counted(&self.row_readback, 4)?;
         let pixels = u32::from_le_bytes([raw[0], raw[1], raw[2], raw[3]]);
@@ -129,12 +135,12 @@ impl GpuEngine {
     /// `row_sums`), for the tests that hold the blocks to their twin.
     pub fn row_data(&self) -> Vec<f64> {
         let len = layout::ROW_PARTIALS + ROW_SUMS * self.sizes.monomers.div_ceil(REDUCE_BLOCK);
-        self.read("row_data", len)
+        self.read(Binding::RowData, len)
     }
 
     fn write_row_data(&self, at: usize, values: &[f64]) {
         self.ctx.queue.write_buffer(
-            self.buffers.get("row_data"),
+            self.buffers.get(Binding::RowData),
             (at * 8) as u64,
             bytemuck::cast_slice(values),
         );
@@ -149,14 +155,14 @@ impl GpuEngine {
     /// Grows scratch binding `name` to hold `bytes` (doubling, so a slowly growing extent
     /// reallocates rarely) and the readback buffer to hold what the rows read; the bind
     /// groups are rebuilt around the new buffer.
-    fn ensure_scratch(&mut self, name: &'static str, bytes: u64) {
-        if self.buffers.get(name).size() < bytes {
-            let grown = bytes.max(2 * self.buffers.get(name).size());
-            self.buffers.grow(&self.ctx.device, name, grown);
+    fn ensure_scratch(&mut self, binding: Binding, bytes: u64) {
+        if self.buffers.get(binding).size() < bytes {
+            let grown = bytes.max(2 * self.buffers.get(binding).size());
+            self.buffers.grow(&self.ctx.device, binding, grown);
             self.bind_groups = self.kernels.bind_groups(&self.ctx.device, &self.buffers);
         }
         // The profile's results come back after the sums.
-        let readback = (ROW_SUMS * 8) as u64 + self.buffers.get("row_profile_data").size();
+        let readback = (ROW_SUMS * 8) as u64 + self.buffers.get(Binding::RowProfileData).size();
         if self.row_readback.size() < readback {
             self.row_readback = row_readback_buffer(&self.ctx.device, readback);
         }

@@ -2,7 +2,7 @@
 //! encodes them, running steps and the host's side of each submission.
 
 use super::{groups, GpuEngine, GpuError};
-use crate::backend::gpu::kernels::Kernel;
+use crate::backend::gpu::interface::{Binding, Kernel};
 use crate::state::simulated_time;
 use glam::DVec3;
 
@@ -59,7 +59,7 @@ impl GpuEngine {
             pass.set_bind_group(0, &self.bind_groups[k as usize], &[]);
             if let Some(offset) = k.indirect_offset() {
                 // Sized on the device by the scan that filled the list.
-                pass.dispatch_workgroups_indirect(self.buffers.get("work_args"), offset);
+                pass.dispatch_workgroups_indirect(self.buffers.get(Binding::WorkArgs), offset);
                 continue;
             }
             let count = match k {

@@ -2,25 +2,27 @@
 //! of a finished step (empty event lists, the pair-contact list of every contact).
 
 use super::{groups, GpuEngine};
-use crate::backend::gpu::kernels::Kernel;
+use crate::backend::gpu::buffers::{PAIR_N1, PAIR_N2};
+use crate::backend::gpu::interface::{Binding, Kernel};
+use crate::backend::gpu::layout::SLOT_CHUNKS;
 use crate::backend::gpu::layout::{self, vec4, GpuConstants, GpuWall};
 use crate::state::interaction::wall_interaction;
 use crate::state::{ContactTable, Monomers};
 use glam::DVec3;
 
 impl GpuEngine {
-    pub(super) fn write<T: bytemuck::Pod>(&self, name: &str, data: &[T]) {
+    pub(super) fn write<T: bytemuck::Pod>(&self, binding: Binding, data: &[T]) {
         if !data.is_empty() {
             self.ctx
                 .queue
-                .write_buffer(self.buffers.get(name), 0, bytemuck::cast_slice(data));
+                .write_buffer(self.buffers.get(binding), 0, bytemuck::cast_slice(data));
         }
     }
 
     /// Writes a per-slot vector array to its chunk bindings.
-    fn write_slots(&self, array: &str, data: &[[f64; 4]]) {
-        for (c, part) in data.chunks(self.sizes.slot_chunk()).enumerate() {
-            self.write(&format!("{array}_{c}"), part);
+    fn write_slots(&self, chunks: [Binding; SLOT_CHUNKS], data: &[[f64; 4]]) {
+        for (chunk, part) in chunks.into_iter().zip(data.chunks(self.sizes.slot_chunk())) {
+            self.write(chunk, part);
         }
     }
 
@@ -29,7 +31,7 @@ impl GpuEngine {
     pub fn upload(&mut self, m: &Monomers, table: &ContactTable) {
         let n = m.len();
         let v4 = |v: &[DVec3]| v.iter().map(|x| vec4(*x)).collect::<Vec<_>>();
-        self.write("params", &[self.params()]);
+        self.write(Binding::Params, &[self.params()]);
         let walls: Vec<GpuWall> = self
             .walls
             .iter()
@@ -40,13 +42,13 @@ impl GpuEngine {
                 k: GpuConstants::from(w.constants),
             })
             .collect();
-        self.write("walls", &walls);
-        self.write("position", &v4(&m.position));
-        self.write("velocity", &v4(&m.velocity));
-        self.write("angular_velocity", &v4(&m.angular_velocity));
-        self.write("force", &v4(&m.force));
-        self.write("torque", &v4(&m.torque));
-        self.write("damping_force", &v4(&m.damping_force));
+        self.write(Binding::Walls, &walls);
+        self.write(Binding::Position, &v4(&m.position));
+        self.write(Binding::Velocity, &v4(&m.velocity));
+        self.write(Binding::AngularVelocity, &v4(&m.angular_velocity));
+        self.write(Binding::Force, &v4(&m.force));
+        self.write(Binding::Torque, &v4(&m.torque));
+        self.write(Binding::DampingForce, &v4(&m.damping_force));
         // The previous step's wall powers of each monomer (Σ_w F·v_w dt and its damping part).
         let mut aux = Vec::with_capacity(n);
         for i in 0..n {
@@ -59,8 +61,8 @@ impl GpuEngine {
             }
             aux.push([m.inverse_mass_scale[i], m.inverse_inertia_scale[i], p, q]);
         }
-        self.write("aux", &aux);
-        self.write("tally", &vec![0.0f64; n * layout::TALLY_STRIDE]);
+        self.write(Binding::Aux, &aux);
+        self.write(Binding::Tally, &vec![0.0f64; n * layout::TALLY_STRIDE]);
         let n1: Vec<[f64; 4]> = table
             .pair
             .iter()
@@ -68,10 +70,10 @@ impl GpuEngine {
             .collect();
         let n2: Vec<[f64; 4]> = table.pair.iter().map(|c| vec4(c.n2)).collect();
         let partner: Vec<u32> = table.pair.iter().map(|c| c.partner).collect();
-        self.write_slots("pair_n1", &n1);
-        self.write_slots("pair_n2", &n2);
-        self.write("pair_partner", &partner);
-        self.write("pair_count", &table.pair_count);
+        self.write_slots(PAIR_N1, &n1);
+        self.write_slots(PAIR_N2, &n2);
+        self.write(Binding::PairPartner, &partner);
+        self.write(Binding::PairCount, &table.pair_count);
         let wn1: Vec<[f64; 4]> = table
             .wall
             .iter()
@@ -79,18 +81,18 @@ impl GpuEngine {
             .collect();
         let anchor: Vec<[f64; 4]> = table.wall.iter().map(|c| vec4(c.anchor)).collect();
         let wall_id: Vec<u32> = table.wall.iter().map(|c| c.wall).collect();
-        self.write("wall_n1", &wn1);
-        self.write("wall_anchor", &anchor);
-        self.write("wall_id", &wall_id);
-        self.write("wall_count", &table.wall_count);
-        self.write("incoming_count", &vec![0u32; n]);
+        self.write(Binding::WallN1, &wn1);
+        self.write(Binding::WallAnchor, &anchor);
+        self.write(Binding::WallId, &wall_id);
+        self.write(Binding::WallCount, &table.wall_count);
+        self.write(Binding::IncomingCount, &vec![0u32; n]);
         // The candidate lists are built at the first neighbour passes.
         let mut flags = [layout::NO_MONOMER; layout::FLAG_COUNT];
         flags[layout::FLAG_REBUILD] = 0;
-        self.write("flags", &flags);
-        self.write("neighbour_count", &vec![0u32; n]);
-        self.write("reference_position", &v4(&m.position));
-        self.write("diag", &[0.0f64; layout::DIAG_SIZE]);
+        self.write(Binding::Flags, &flags);
+        self.write(Binding::NeighbourCount, &vec![0u32; n]);
+        self.write(Binding::ReferencePosition, &v4(&m.position));
+        self.write(Binding::Diag, &[0.0f64; layout::DIAG_SIZE]);
         // The lists of a finished step: event lists empty (no entries, dispatches of no
         // workgroups), the pair-contact list holding every contact of the table.
         let contact_list: Vec<u32> = (0..n)
@@ -101,37 +103,37 @@ impl GpuEngine {
             .collect();
         let pair_groups =
             (contact_list.len().div_ceil(layout::PAIR_GROUP) as u32).min(self.work_groups_max);
-        self.write("contact_list", &contact_list);
+        self.write(Binding::ContactList, &contact_list);
         let mut work = [0u32; layout::WORK_LISTS];
         work[layout::WORK_PAIRS] = contact_list.len() as u32;
-        self.write("work", &work);
+        self.write(Binding::Work, &work);
         let mut args = [0u32, 1, 1].repeat(layout::ARGS_REBUILD + 1);
         args[3 * layout::WORK_PAIRS] = pair_groups;
         // The candidate lists are built at the first neighbour passes (FLAG_REBUILD above).
         args[3 * layout::ARGS_REBUILD] = groups(n);
-        self.write("work_args", &args);
+        self.write(Binding::WorkArgs, &args);
         // The pair contacts' tests for a first contacts_scan, which no integrate_pairs precedes.
-        self.write("pair_tests", &vec![0u32; n]);
+        self.write(Binding::PairTests, &vec![0u32; n]);
         self.dispatch(&[Kernel::ContactsPairTests]);
     }
 
     /// Empties the work lists, as integrate_drift does before each step's scan (tests that
     /// run contacts_scan on an uploaded state, whose lists are those of a finished step).
     pub fn clear_work_lists(&self) {
-        self.write("work", &[0u32; layout::WORK_LISTS]);
-        self.write("work_args", &[0u32, 1, 1].repeat(layout::WORK_LISTS));
+        self.write(Binding::Work, &[0u32; layout::WORK_LISTS]);
+        self.write(Binding::WorkArgs, &[0u32, 1, 1].repeat(layout::WORK_LISTS));
     }
 
     /// Lowers the most workgroups a pass over a work list is dispatched with, so that tests
     /// on small systems walk the lists with a stride as the largest systems do.
     pub fn limit_work_groups(&mut self, max: u32) {
         self.work_groups_max = max.clamp(1, self.work_groups_max);
-        self.write("params", &[self.params()]);
+        self.write(Binding::Params, &[self.params()]);
         // The pair-contact list's dispatch as contacts_scan would size it now.
-        let pairs = self.read::<u32>("work", layout::WORK_LISTS)[layout::WORK_PAIRS];
+        let pairs = self.read::<u32>(Binding::Work, layout::WORK_LISTS)[layout::WORK_PAIRS];
         let groups = (pairs as usize).div_ceil(layout::PAIR_GROUP) as u32;
         self.ctx.queue.write_buffer(
-            self.buffers.get("work_args"),
+            self.buffers.get(Binding::WorkArgs),
             (12 * layout::WORK_PAIRS) as u64,
             bytemuck::cast_slice(&[groups.min(self.work_groups_max)]),
         );
