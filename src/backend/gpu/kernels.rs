@@ -191,10 +191,8 @@ mod tests {
         }
         let most = all.iter().map(|(_, b)| b.len()).max().unwrap() as u32;
         assert_eq!(most, MAX_BINDINGS_PER_PASS);
-        assert!(
-            Binding::COUNT > 32,
-            "the engine as a whole declares more than one pass binds"
-        );
+        // The engine as a whole declares more than one pass may bind.
+        const _: () = assert!(Binding::COUNT > 32);
     }
 
     #[test]
