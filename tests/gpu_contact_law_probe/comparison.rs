@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 
 /// |gpu − cpu| relative to the largest |cpu| component: 0 when bit-identical or NaN on both
 /// sides, infinite when only one side is NaN.
-fn relative_difference(gpu: &[f64], cpu: &[f64]) -> f64 {
+pub(crate) fn relative_difference(gpu: &[f64], cpu: &[f64]) -> f64 {
     if gpu.iter().zip(cpu).all(|(g, c)| g.to_bits() == c.to_bits()) {
         return 0.0;
     }

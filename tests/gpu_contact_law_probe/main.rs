@@ -22,6 +22,7 @@ mod gpu_support;
 
 mod cases;
 mod comparison;
+mod mixed;
 mod rust_twins;
 
 use cases::cases;

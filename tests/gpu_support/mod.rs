@@ -26,6 +26,29 @@ pub fn run_probe(
     in_stride: usize,
     out_stride: usize,
 ) -> Vec<f64> {
+    run_records(ctx, module, inputs, in_stride, out_stride, f64::NAN)
+}
+
+/// [`run_probe`] for a probe compiled at `Precision::Mixed` (records of f32).
+pub fn run_probe_f32(
+    ctx: &GpuContext,
+    module: &wgpu::ShaderModule,
+    inputs: &[f32],
+    in_stride: usize,
+    out_stride: usize,
+) -> Vec<f32> {
+    run_records(ctx, module, inputs, in_stride, out_stride, f32::NAN)
+}
+
+/// The runner for either record type; `nan` fills the outputs before the dispatch.
+fn run_records<T: bytemuck::Pod>(
+    ctx: &GpuContext,
+    module: &wgpu::ShaderModule,
+    inputs: &[T],
+    in_stride: usize,
+    out_stride: usize,
+    nan: T,
+) -> Vec<T> {
     assert_eq!(inputs.len() % in_stride, 0);
     let cases = inputs.len() / in_stride;
     let device = &ctx.device;
@@ -45,11 +68,11 @@ pub fn run_probe(
         contents: bytemuck::cast_slice(inputs),
         usage: wgpu::BufferUsages::STORAGE,
     });
-    let out_bytes = (cases * out_stride * std::mem::size_of::<f64>()) as u64;
+    let out_bytes = (cases * out_stride * std::mem::size_of::<T>()) as u64;
     // NaN everywhere a probe forgot to write, so a gap cannot pass as a zero.
     let output = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("probe outputs"),
-        contents: bytemuck::cast_slice(&vec![f64::NAN; cases * out_stride]),
+        contents: bytemuck::cast_slice(&vec![nan; cases * out_stride]),
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
     });
     let readback = device.create_buffer(&wgpu::BufferDescriptor {
@@ -127,7 +150,7 @@ pub fn run_probe(
         .poll(wgpu::PollType::wait_indefinitely())
         .expect("waiting for the probe");
     let view = slice.get_mapped_range().expect("mapped probe readback");
-    let values: Vec<f64> = bytemuck::pod_collect_to_vec(&view);
+    let values: Vec<T> = bytemuck::pod_collect_to_vec(&view);
     drop(view);
     readback.unmap();
     values
