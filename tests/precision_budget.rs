@@ -9,8 +9,8 @@
 
 use dustdem::material::{ContactConstants, Material, TwistingStiffness};
 use dustdem::mixed::double_f32::DoubleF32;
-use dustdem::mixed::pointer::{rotate_split_pointer, SplitUnit};
 use dustdem::mixed::split::{pair_overlap, Separation, SplitPosition};
+use dustdem::mixed::split_pointer::{rotate_split_pointer, SplitUnit};
 use dustdem::model::pointer::rotate_pointer;
 use dustdem::rng::Rng;
 use glam::{DVec3, Vec3};

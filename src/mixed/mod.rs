@@ -11,9 +11,9 @@
 //!   overlap is evaluated from the exact integer part and the small offsets separately;
 //! - [`double_f32`]: an unevaluated sum of two f32 (about 48 bits) for the wall position, the
 //!   constants a split overlap subtracts, and the accumulated energies and wall forces;
-//! - [`pointer`]: contact pointers as double-f32 vectors turned by f32 increments, since a
+//! - [`split_pointer`]: contact pointers as double-f32 vectors turned by f32 increments, since a
 //!   plain f32 pointer turned by the same small angle every step drifts systematically.
 
 pub mod double_f32;
-pub mod pointer;
 pub mod split;
+pub mod split_pointer;

@@ -40,7 +40,25 @@ pub fn run_probe_f32(
     run_records(ctx, module, inputs, in_stride, out_stride, f32::NAN)
 }
 
-/// The runner for either record type; `nan` fills the outputs before the dispatch.
+/// [`run_probe`] for a probe whose records are raw 32-bit words (f32 and i32 bits).
+pub fn run_probe_u32(
+    ctx: &GpuContext,
+    module: &wgpu::ShaderModule,
+    inputs: &[u32],
+    in_stride: usize,
+    out_stride: usize,
+) -> Vec<u32> {
+    run_records(
+        ctx,
+        module,
+        inputs,
+        in_stride,
+        out_stride,
+        f32::NAN.to_bits(),
+    )
+}
+
+/// The runner for any record type; `nan` fills the outputs before the dispatch.
 fn run_records<T: bytemuck::Pod>(
     ctx: &GpuContext,
     module: &wgpu::ShaderModule,

@@ -344,3 +344,47 @@ fn every_entry_point_has_a_cpu_twin_or_a_parity_test() {
     }
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }
+
+/// The mixed mode's WGSL (shaders/mixed/) against src/mixed/: every function has a Rust twin,
+/// a free function of the same name or a method `Type::m` written `type_m` (`DoubleF32::add_f32`
+/// is `double_f32_add_f32`); `math32` mirrors glam's Vec3.
+#[test]
+fn every_mixed_wgsl_function_has_a_rust_twin() {
+    use super::shader::MIXED;
+    for module in MIXED.iter().filter(|m| m.name() != "math32") {
+        let path = format!(
+            "{}/src/mixed/{}.rs",
+            env!("CARGO_MANIFEST_DIR"),
+            module.name()
+        );
+        let rust = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+        let free = declared(&rust, "pub fn ");
+        let methods = declared(&rust, "    pub fn ");
+        let types: Vec<String> = rust
+            .lines()
+            .filter_map(|l| l.strip_prefix("impl "))
+            .map(|t| t.trim_end_matches(" {").to_string())
+            .collect();
+        for name in declared(module.text, "fn ") {
+            let twin = free.contains(&name)
+                || types.iter().any(|t| {
+                    let snake = snake_case(t);
+                    name.strip_prefix(&format!("{snake}_"))
+                        .is_some_and(|m| methods.contains(m))
+                });
+            assert!(twin, "{}: {name} has no twin in {path}", module.path);
+        }
+    }
+}
+
+/// `DoubleF32` → `double_f32`, `SplitPosition` → `split_position`.
+fn snake_case(camel: &str) -> String {
+    let mut out = String::new();
+    for (i, c) in camel.chars().enumerate() {
+        if c.is_ascii_uppercase() && i > 0 {
+            out.push('_');
+        }
+        out.push(c.to_ascii_lowercase());
+    }
+    out
+}

@@ -7,6 +7,8 @@
 //!
 //! WGSL has no imports, so a pass is assembled by concatenation. The convention:
 //!
+//! - `shaders/mixed/<module>.wgsl` are the mixed precision mode's f32 representations (twins of
+//!   `src/mixed/`), import-only like the model's.
 //! - `shaders/model/<module>.wgsl` are import-only modules (functions, structs, constants; no
 //!   bindings, no entry points). `<module>` is the name other files use to ask for it.
 //! - Any shader file, module or pass, names the modules it calls into with a line
@@ -103,6 +105,16 @@ pub const MODEL: &[Source] = &[
     wgsl!("model/wall.wgsl"),
 ];
 
+/// The mixed precision mode's representations, written in f32: twins of `src/mixed/`
+/// (`math32` of glam's Vec3, as `math` is of DVec3). A test checks this list against
+/// `shaders/mixed/`.
+pub const MIXED: &[Source] = &[
+    wgsl!("mixed/math32.wgsl"),
+    wgsl!("mixed/double_f32.wgsl"),
+    wgsl!("mixed/split.wgsl"),
+    wgsl!("mixed/split_pointer.wgsl"),
+];
+
 /// Engine modules: import-only like the model's, but they may declare the engine's bindings
 /// (`bindings`) and use them (`interaction`, `cells`). A test checks this list against
 /// `shaders/engine/`.
@@ -128,11 +140,14 @@ pub const PASSES: &[Source] = &[
 
 /// Probes: entry points that only tests run (the contact law on recorded inputs). A test checks
 /// this list against `shaders/probes/`.
-pub const PROBES: &[Source] = &[wgsl!("probes/contact_law_probe.wgsl")];
+pub const PROBES: &[Source] = &[
+    wgsl!("probes/contact_law_probe.wgsl"),
+    wgsl!("probes/mixed_probe.wgsl"),
+];
 
-/// Every module a `// requires:` line may name: the model's, then the engine's.
+/// Every module a `// requires:` line may name: the model's, the engine's, the mixed mode's.
 pub fn modules() -> Vec<Source> {
-    MODEL.iter().chain(ENGINE).copied().collect()
+    MODEL.iter().chain(ENGINE).chain(MIXED).copied().collect()
 }
 
 /// naga capabilities the f64 sources may use ([`Precision::Exact`]); the mixed texts use

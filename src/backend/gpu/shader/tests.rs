@@ -20,7 +20,12 @@ fn wgsl_files(dir: &str) -> BTreeSet<String> {
 }
 
 fn all_files() -> impl Iterator<Item = &'static Source> {
-    PASSES.iter().chain(PROBES).chain(MODEL).chain(ENGINE)
+    PASSES
+        .iter()
+        .chain(PROBES)
+        .chain(MODEL)
+        .chain(ENGINE)
+        .chain(MIXED)
 }
 
 #[test]
@@ -29,6 +34,7 @@ fn every_shader_file_is_registered() {
         |list: &[Source]| -> BTreeSet<String> { list.iter().map(|s| s.path.to_string()).collect() };
     assert_eq!(paths(MODEL), wgsl_files("shaders/model"));
     assert_eq!(paths(ENGINE), wgsl_files("shaders/engine"));
+    assert_eq!(paths(MIXED), wgsl_files("shaders/mixed"));
     assert_eq!(paths(PASSES), wgsl_files("shaders/passes"));
     assert_eq!(paths(PROBES), wgsl_files("shaders/probes"));
     assert!(
@@ -44,6 +50,23 @@ fn every_pass_and_module_validates() {
         if let Err(e) = assembled.validate() {
             panic!("{e}");
         }
+    }
+}
+
+#[test]
+fn mixed_modules_need_no_f64() {
+    for module in MIXED {
+        let assembled = assemble(module, &modules())
+            .unwrap()
+            .with_precision(Precision::Mixed);
+        assert_eq!(
+            assembled.source,
+            assemble(module, &modules()).unwrap().source,
+            "{}: written in f32, nothing to derive",
+            module.path
+        );
+        let (m, _) = assembled.validate().unwrap_or_else(|e| panic!("{e}"));
+        assert!(m.entry_points.is_empty(), "{}: entry point", module.path);
     }
 }
 
@@ -67,12 +90,9 @@ fn requirements_come_first_and_once() {
         for (i, path) in order.iter().enumerate() {
             let module = all_files().find(|s| s.path == *path).unwrap();
             for dep in module.requires() {
-                let at = order.iter().position(|p| {
-                    MODEL
-                        .iter()
-                        .chain(ENGINE)
-                        .any(|m| m.path == *p && m.name() == dep)
-                });
+                let at = order
+                    .iter()
+                    .position(|p| modules().iter().any(|m| m.path == *p && m.name() == dep));
                 assert!(
                     at.is_some_and(|at| at < i),
                     "{path} needs {dep} first: {order:?}"
