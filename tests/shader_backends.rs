@@ -13,11 +13,20 @@ fn every_pass() -> impl Iterator<Item = &'static Source> {
     shader::PASSES.iter().chain(shader::PROBES)
 }
 
-fn validated(pass: &Source, precision: Precision) -> (naga::Module, naga::valid::ModuleInfo) {
+/// The pass at `precision`, validated, with its overrides applied as the engine's pipelines
+/// apply them: once with their defaults and once for per-slot arrays in one binding.
+fn validated(pass: &Source, precision: Precision) -> Vec<(naga::Module, naga::valid::ModuleInfo)> {
     let assembled = shader::assemble(pass, &shader::modules())
         .unwrap_or_else(|e| panic!("{e}"))
         .with_precision(precision);
-    assembled.validate().unwrap_or_else(|e| panic!("{e}"))
+    [assembled.clone(), assembled.with_one_slot_chunk()]
+        .iter()
+        .map(|a| {
+            let (module, info) = a.validate().unwrap_or_else(|e| panic!("{e}"));
+            a.with_overrides_applied(&module, &info, None)
+                .unwrap_or_else(|e| panic!("{e}"))
+        })
+        .collect()
 }
 
 fn hlsl(module: &naga::Module, info: &naga::valid::ModuleInfo) -> Result<String, String> {
@@ -65,8 +74,11 @@ fn has_f64(module: &naga::Module) -> bool {
 
 #[test]
 fn every_exact_pass_translates_for_vulkan_and_dx12() {
-    for pass in every_pass() {
-        let (module, info) = validated(pass, Precision::Exact);
+    for (pass, (module, info)) in every_pass().flat_map(|p| {
+        validated(p, Precision::Exact)
+            .into_iter()
+            .map(move |v| (p, v))
+    }) {
         let words = spirv(&module, &info).unwrap_or_else(|e| panic!("{}: SPIR-V: {e}", pass.path));
         assert!(words.len() > 100, "{}", pass.path);
         hlsl(&module, &info).unwrap_or_else(|e| panic!("{}: HLSL: {e}", pass.path));
@@ -78,8 +90,11 @@ fn every_exact_pass_translates_for_vulkan_and_dx12() {
 
 #[test]
 fn every_mixed_pass_translates_for_vulkan_dx12_and_metal() {
-    for pass in every_pass() {
-        let (module, info) = validated(pass, Precision::Mixed);
+    for (pass, (module, info)) in every_pass().flat_map(|p| {
+        validated(p, Precision::Mixed)
+            .into_iter()
+            .map(move |v| (p, v))
+    }) {
         assert!(!has_f64(&module), "{}: f64 in a mixed pass", pass.path);
         spirv(&module, &info).unwrap_or_else(|e| panic!("{}: SPIR-V: {e}", pass.path));
         hlsl(&module, &info).unwrap_or_else(|e| panic!("{}: HLSL: {e}", pass.path));

@@ -71,10 +71,10 @@ const REDUCE_BLOCK: u32 = 64u;
 const DIAG_THREADS: u32 = 64u;
 // Bindings each per-slot vector array is split into (see load_pair_n1).
 const SLOT_CHUNKS: u32 = 3u;
-// Chunks in use: 1 where every per-slot array fits its first binding. The engine compiles its
-// kernels with the value its problem needs (backend::gpu::shader::Assembled::with_one_slot_chunk), so
-// the chunk selection below folds away where there is one chunk; this line is rewritten.
-const SLOT_CHUNKS_IN_USE: u32 = 3u;
+// Chunks in use: 1 where every per-slot array fits its first binding. The engine's pipelines
+// set it to the value their problem needs (backend::gpu::shader::Assembled::with_one_slot_chunk),
+// so the chunk selection below folds away where there is one chunk.
+override SLOT_CHUNKS_IN_USE: u32 = 3u;
 // Candidate partners j > i one monomer's list holds (within 2r + skin: about 12 at φ = 0.74).
 const NEIGHBOUR_CAPACITY: u32 = 24u;
 

@@ -8,7 +8,7 @@ use super::buffers::{Buffers, MAX_BINDINGS_PER_PASS};
 use super::context::GpuContext;
 use super::layout::{ARGS_REBUILD, WORK_CONTACTS, WORK_PAIRS};
 use super::quirks;
-use super::shader::{assemble_pass, Assembled, ShaderError};
+use super::shader::{assemble_pass, Assembled, FloatMode, ShaderError};
 use super::spirv::entry_bindings;
 
 pub use super::interface::Kernel;
@@ -124,7 +124,14 @@ impl Kernels {
                     layout: Some(&pipeline_layout),
                     module,
                     entry_point: Some(entry),
-                    compilation_options: Default::default(),
+                    // The exact mode's SPIR-V has its overrides applied already.
+                    compilation_options: wgpu::PipelineCompilationOptions {
+                        constants: match ctx.float_mode {
+                            FloatMode::Relaxed => &assembled.overrides,
+                            FloatMode::Exact => &[],
+                        },
+                        ..Default::default()
+                    },
                     cache: None,
                 },
             ));

@@ -24,10 +24,14 @@ pub struct Assembled {
     pub(super) segments: Vec<Segment>,
     /// The arithmetic width of `source` (assembled as f64; see [`Assembled::with_precision`]).
     pub precision: Precision,
+    /// Values of the text's `override` constants for the pipelines made from it (the others
+    /// keep their defaults).
+    pub overrides: Vec<(&'static str, f64)>,
 }
 
-/// The line of shaders/engine/bindings.wgsl that [`Assembled::with_one_slot_chunk`] rewrites.
-const SLOT_CHUNKS_LINE: &str = "const SLOT_CHUNKS_IN_USE: u32 = 3u;";
+/// The pipeline-overridable constant of shaders/engine/bindings.wgsl that
+/// [`Assembled::with_one_slot_chunk`] sets.
+const SLOT_CHUNKS_IN_USE: &str = "SLOT_CHUNKS_IN_USE";
 
 impl Assembled {
     pub(super) fn new(path: &'static str, source: String, segments: Vec<Segment>) -> Self {
@@ -36,6 +40,7 @@ impl Assembled {
             source,
             segments,
             precision: Precision::Exact,
+            overrides: Vec::new(),
         }
     }
 
@@ -55,16 +60,46 @@ impl Assembled {
         self
     }
 
-    /// The same pass compiled for per-slot arrays held in one binding (see
-    /// `Sizes::one_slot_chunk`): one line changes, so error locations stay as they are. A pass
-    /// without the engine's bindings is returned unchanged.
+    /// The same pass for per-slot arrays held in one binding (see `Sizes::one_slot_chunk`):
+    /// the `override` SLOT_CHUNKS_IN_USE is 1 in its pipelines, and the driver folds the chunk
+    /// selection away. A pass without the engine's bindings is returned unchanged.
     pub fn with_one_slot_chunk(mut self) -> Self {
-        if self.source.contains(SLOT_CHUNKS_LINE) {
-            self.source = self
-                .source
-                .replace(SLOT_CHUNKS_LINE, "const SLOT_CHUNKS_IN_USE: u32 = 1u;");
+        if self
+            .source
+            .contains(&format!("override {SLOT_CHUNKS_IN_USE}:"))
+        {
+            self.overrides.push((SLOT_CHUNKS_IN_USE, 1.0));
         }
         self
+    }
+
+    /// The overrides as naga takes them.
+    fn pipeline_constants(&self) -> naga::back::PipelineConstants {
+        self.overrides
+            .iter()
+            .map(|(name, value)| (name.to_string(), *value))
+            .collect()
+    }
+
+    /// The module with every `override` replaced by its value (naga's writers take no
+    /// overrides), for `entry` alone or for all entry points.
+    pub fn with_overrides_applied<'a>(
+        &self,
+        module: &'a naga::Module,
+        info: &'a naga::valid::ModuleInfo,
+        entry: Option<&str>,
+    ) -> Result<(naga::Module, naga::valid::ModuleInfo), ShaderError> {
+        let (module, info) = naga::back::pipeline_constants::process_overrides(
+            module,
+            info,
+            entry.map(|e| (naga::ShaderStage::Compute, e)),
+            &self.pipeline_constants(),
+        )
+        .map_err(|e| ShaderError::Spirv {
+            path: self.path,
+            message: format!("overrides: {e}"),
+        })?;
+        Ok((module.into_owned(), info.into_owned()))
     }
 
     /// The same pass with every `var<uniform>` declared as read-only storage (what
@@ -158,6 +193,7 @@ impl Assembled {
                 if ctx.float_mode != FloatMode::Exact {
                     return Err(ShaderError::ExactUnavailable(ctx.summary().name));
                 }
+                let (module, info) = self.with_overrides_applied(&module, &info, entry)?;
                 let words =
                     spirv::exact_spirv(&module, &info, entry).map_err(|e| ShaderError::Spirv {
                         path: self.path,

@@ -174,3 +174,28 @@ fn requires_lines_stop_at_the_first_code_line() {
     };
     assert_eq!(s.requires(), ["a", "b", "c"]);
 }
+
+#[test]
+fn one_slot_chunk_sets_the_override_the_pipelines_apply() {
+    let chunks = |a: &Assembled| -> u32 {
+        let (module, info) = a.validate().unwrap();
+        let (module, _) = a.with_overrides_applied(&module, &info, None).unwrap();
+        let (_, c) = module
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some("SLOT_CHUNKS_IN_USE"))
+            .expect("the override becomes a constant");
+        match module.global_expressions[c.init] {
+            naga::Expression::Literal(naga::Literal::U32(v)) => v,
+            ref other => panic!("{other:?}"),
+        }
+    };
+    let forces = assemble_pass("forces").unwrap();
+    assert_eq!(chunks(&forces), 3);
+    assert_eq!(chunks(&forces.clone().with_one_slot_chunk()), 1);
+    // A pass without the engine's bindings has no such override and is left alone.
+    let probe = assemble_pass("contact_law_probe")
+        .unwrap()
+        .with_one_slot_chunk();
+    assert!(probe.overrides.is_empty());
+}
