@@ -10,6 +10,8 @@
 //! log₁₀p_m is close to Gaussian. The error of p_m itself follows by the delta
 //! method and is only meaningful while it is small compared with p_m.
 
+#[cfg(test)]
+mod guard_tests;
 pub(in crate::analysis) mod linalg;
 pub(in crate::analysis) mod lm;
 #[cfg(test)]
