@@ -61,6 +61,16 @@ struct Wall {
     k: Constants,
 }
 
+// Per monomer: the scales of its inverse mass and inertia (0 for a fixed monomer, as
+// state::Monomers has them), and the power Σ_w F_w·v_w dt of its wall contacts and of their
+// damping part at the current step (trapezoid bookkeeping of the wall work).
+struct MonomerAux {
+    inverse_mass_scale: f64,
+    inverse_inertia_scale: f64,
+    wall_power: f64,
+    damping_power: f64,
+}
+
 // Walls the diagnostics block has room for.
 const MAX_WALLS: u32 = 8u;
 // Pair contacts a monomer can take from owners of lower index (equal spheres touch at most 12).
@@ -180,9 +190,7 @@ const ROW_PARTIALS: u32 = 24u;
 @group(0) @binding(5) var<storage, read_write> force: array<vec4<f64>>;
 @group(0) @binding(6) var<storage, read_write> torque: array<vec4<f64>>;
 @group(0) @binding(7) var<storage, read_write> damping_force: array<vec4<f64>>;
-// x: inverse-mass scale, y: inverse-inertia scale, z: Σ_w F_w·v_w dt and w: the same for the
-// damping part, of the monomer's wall contacts at the current step (trapezoid bookkeeping).
-@group(0) @binding(8) var<storage, read_write> aux: array<vec4<f64>>;
+@group(0) @binding(8) var<storage, read_write> aux: array<MonomerAux>;
 @group(0) @binding(9) var<storage, read_write> tally: array<f64>;
 // Pair slots, `pair_slots` per owner (slot index owner · pair_slots + slot): pointer of the
 // owner (w: twist integral), pointer of the partner, partner index; the count per owner.

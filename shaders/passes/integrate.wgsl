@@ -40,8 +40,9 @@ fn integrate_kick_with_wall_sums(@builtin(global_invocation_id) id: vec3<u32>) {
 fn kick(i: u32) {
     let dt = params.dt;
     let s = aux[i];
-    let v = velocity[i].xyz + force[i].xyz * (dt * params.inverse_mass * s.x);
-    let w = angular_velocity[i].xyz + torque[i].xyz * (dt * params.inverse_inertia * s.y);
+    let v = velocity[i].xyz + force[i].xyz * (dt * params.inverse_mass * s.inverse_mass_scale);
+    let w = angular_velocity[i].xyz
+        + torque[i].xyz * (dt * params.inverse_inertia * s.inverse_inertia_scale);
     velocity[i] = vec4<f64>(v, 0.0lf);
     angular_velocity[i] = vec4<f64>(w, 0.0lf);
     // For this step's tests in integrate_pairs.
@@ -147,8 +148,9 @@ fn integrate_start(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let half = 0.5lf * params.dt;
     let s = aux[i];
-    let v = velocity[i].xyz - force[i].xyz * (half * params.inverse_mass * s.x);
-    let w = angular_velocity[i].xyz - torque[i].xyz * (half * params.inverse_inertia * s.y);
+    let v = velocity[i].xyz - force[i].xyz * (half * params.inverse_mass * s.inverse_mass_scale);
+    let w = angular_velocity[i].xyz
+        - torque[i].xyz * (half * params.inverse_inertia * s.inverse_inertia_scale);
     velocity[i] = vec4<f64>(v, 0.0lf);
     angular_velocity[i] = vec4<f64>(w, 0.0lf);
 }

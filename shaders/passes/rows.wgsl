@@ -21,12 +21,13 @@ fn monomer_energy(i: u32) -> array<f64, 4> {
     let mass = row_data[ROW_MASS];
     let inertia = row_data[ROW_INERTIA];
     let a = aux[i];
-    if a.x > 0.0lf {
-        let v = velocity[i].xyz + force[i].xyz * (0.5lf * params.dt / mass * a.x);
+    if a.inverse_mass_scale > 0.0lf {
+        let v = velocity[i].xyz + force[i].xyz * (0.5lf * params.dt / mass * a.inverse_mass_scale);
         e[0] = 0.5lf * mass * vec_length_squared(v);
     }
-    if a.y > 0.0lf {
-        let w = angular_velocity[i].xyz + torque[i].xyz * (0.5lf * params.dt / inertia * a.y);
+    if a.inverse_inertia_scale > 0.0lf {
+        let w = angular_velocity[i].xyz
+            + torque[i].xyz * (0.5lf * params.dt / inertia * a.inverse_inertia_scale);
         e[1] = 0.5lf * inertia * vec_length_squared(w);
     }
     let k = params.pair;

@@ -80,9 +80,9 @@ fn wall_forces(@builtin(global_invocation_id) id: vec3<u32>) {
     let s = aux[i];
     let fd_before = damping_force[i].xyz;
     add_tally(i, TALLY_DAMPING, -(0.5lf * vec_dot(fd_before + fd, v * params.dt)));
-    add_tally(i, TALLY_DAMPING, 0.5lf * (s.w + damping_power));
-    add_tally(i, TALLY_WALL_WORK, 0.5lf * (s.z + power));
-    aux[i] = vec4<f64>(s.x, s.y, power, damping_power);
+    add_tally(i, TALLY_DAMPING, 0.5lf * (s.damping_power + damping_power));
+    add_tally(i, TALLY_WALL_WORK, 0.5lf * (s.wall_power + power));
+    aux[i] = MonomerAux(s.inverse_mass_scale, s.inverse_inertia_scale, power, damping_power);
     force[i] = vec4<f64>(f, 0.0lf);
     torque[i] = vec4<f64>(m, 0.0lf);
     damping_force[i] = vec4<f64>(fd, 0.0lf);

@@ -122,6 +122,17 @@ pub struct GpuWall {
 
 const _: () = assert!(std::mem::size_of::<GpuWall>() == 192);
 
+/// The WGSL `MonomerAux` struct of shaders/engine/bindings.wgsl: a monomer's mobility scales
+/// and the power of its wall contacts at the current step.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct GpuMonomerAux {
+    pub inverse_mass_scale: f64,
+    pub inverse_inertia_scale: f64,
+    pub wall_power: f64,
+    pub damping_power: f64,
+}
+
 /// The numbers the WGSL declares (work lists, flags, the diagnostics and row blocks), generated
 /// from shaders/engine/bindings.wgsl at build time (`backend::gpu::interface`).
 pub use super::interface::wgsl_constants::*;
@@ -226,6 +237,18 @@ mod tests {
                 poisson,
                 damping_value,
                 pair
+            )
+        );
+        let a = wgsl_struct(&module, "MonomerAux");
+        assert_eq!(a.0 as usize, std::mem::size_of::<GpuMonomerAux>());
+        assert_eq!(
+            a.1,
+            offsets!(
+                GpuMonomerAux,
+                inverse_mass_scale,
+                inverse_inertia_scale,
+                wall_power,
+                damping_power
             )
         );
         let w = wgsl_struct(&module, "Wall");

@@ -8,7 +8,7 @@ use crate::backend::gpu::buffers::{PAIR_N1, PAIR_N2};
 use crate::backend::gpu::context::GpuContext;
 use crate::backend::gpu::interface::{Binding, Kernel};
 use crate::backend::gpu::layout::SLOT_CHUNKS;
-use crate::backend::gpu::layout::{self, GpuWall};
+use crate::backend::gpu::layout::{self, GpuMonomerAux, GpuWall};
 use crate::engine::EngineError;
 use crate::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
 use glam::DVec3;
@@ -215,7 +215,7 @@ impl GpuEngine {
     /// The monomers as the CPU engine stores them.
     pub fn monomers(&self) -> Monomers {
         let n = self.sizes.monomers;
-        let aux: Vec<[f64; 4]> = self.read(Binding::Aux, n);
+        let aux: Vec<GpuMonomerAux> = self.read(Binding::Aux, n);
         Monomers {
             position: self.positions(),
             velocity: self.read_vec3(Binding::Velocity, n),
@@ -223,8 +223,8 @@ impl GpuEngine {
             force: self.read_vec3(Binding::Force, n),
             torque: self.read_vec3(Binding::Torque, n),
             damping_force: self.read_vec3(Binding::DampingForce, n),
-            inverse_mass_scale: aux.iter().map(|a| a[0]).collect(),
-            inverse_inertia_scale: aux.iter().map(|a| a[1]).collect(),
+            inverse_mass_scale: aux.iter().map(|a| a.inverse_mass_scale).collect(),
+            inverse_inertia_scale: aux.iter().map(|a| a.inverse_inertia_scale).collect(),
             id: self.ids.clone(),
         }
     }

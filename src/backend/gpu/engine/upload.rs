@@ -5,7 +5,7 @@ use super::{groups, GpuEngine};
 use crate::backend::gpu::buffers::{PAIR_N1, PAIR_N2};
 use crate::backend::gpu::interface::{Binding, Kernel};
 use crate::backend::gpu::layout::SLOT_CHUNKS;
-use crate::backend::gpu::layout::{self, vec4, GpuConstants, GpuWall};
+use crate::backend::gpu::layout::{self, vec4, GpuConstants, GpuMonomerAux, GpuWall};
 use crate::state::interaction::wall_interaction;
 use crate::state::{ContactTable, Monomers};
 use glam::DVec3;
@@ -59,7 +59,12 @@ impl GpuEngine {
                 p += f.dot(w.velocity * self.dt);
                 q += fd.dot(w.velocity * self.dt);
             }
-            aux.push([m.inverse_mass_scale[i], m.inverse_inertia_scale[i], p, q]);
+            aux.push(GpuMonomerAux {
+                inverse_mass_scale: m.inverse_mass_scale[i],
+                inverse_inertia_scale: m.inverse_inertia_scale[i],
+                wall_power: p,
+                damping_power: q,
+            });
         }
         self.write(Binding::Aux, &aux);
         self.write(Binding::Tally, &vec![0.0f64; n * layout::TALLY_STRIDE]);
