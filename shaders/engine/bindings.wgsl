@@ -71,6 +71,14 @@ struct MonomerAux {
     damping_power: f64,
 }
 
+// A contact's pointer on its owner and the contact's twisting angle (state::PairContact's n1 and
+// twist; state::WallContact's): 32 bytes, as a vec3<f64> is aligned to 32 and the twist fills
+// its fourth word.
+struct ContactPointer {
+    n: vec3<f64>,
+    twist: f64,
+}
+
 // Walls the diagnostics block has room for.
 const MAX_WALLS: u32 = 8u;
 // Pair contacts a monomer can take from owners of lower index (equal spheres touch at most 12).
@@ -197,9 +205,9 @@ const ROW_PARTIALS: u32 = 24u;
 // Per-slot vectors are split into SLOT_CHUNKS bindings of params.slot_chunk elements, so that
 // no binding outgrows the device's limit (lavapipe: 128 MiB, 4.2 million vectors); only the
 // load_/store_ functions below index them.
-@group(0) @binding(10) var<storage, read_write> pair_n1_0: array<vec4<f64>>;
-@group(0) @binding(11) var<storage, read_write> pair_n1_1: array<vec4<f64>>;
-@group(0) @binding(12) var<storage, read_write> pair_n1_2: array<vec4<f64>>;
+@group(0) @binding(10) var<storage, read_write> pair_n1_0: array<ContactPointer>;
+@group(0) @binding(11) var<storage, read_write> pair_n1_1: array<ContactPointer>;
+@group(0) @binding(12) var<storage, read_write> pair_n1_2: array<ContactPointer>;
 @group(0) @binding(13) var<storage, read_write> pair_n2_0: array<vec4<f64>>;
 @group(0) @binding(14) var<storage, read_write> pair_n2_1: array<vec4<f64>>;
 @group(0) @binding(15) var<storage, read_write> pair_n2_2: array<vec4<f64>>;
@@ -218,7 +226,7 @@ const ROW_PARTIALS: u32 = 24u;
 @group(0) @binding(25) var<storage, read_write> pair_result_c_1: array<vec4<f64>>;
 @group(0) @binding(26) var<storage, read_write> pair_result_c_2: array<vec4<f64>>;
 // Wall slots, `wall_slots` per monomer: pointer (w: twist), anchor, wall index; the count.
-@group(0) @binding(27) var<storage, read_write> wall_n1: array<vec4<f64>>;
+@group(0) @binding(27) var<storage, read_write> wall_n1: array<ContactPointer>;
 @group(0) @binding(28) var<storage, read_write> wall_anchor: array<vec4<f64>>;
 @group(0) @binding(29) var<storage, read_write> wall_id: array<u32>;
 @group(0) @binding(30) var<storage, read_write> wall_count: array<u32>;
@@ -291,7 +299,7 @@ fn slot_chunk_of(idx: u32) -> vec2<u32> {
     return vec2<u32>(c, idx - c * params.slot_chunk);
 }
 
-fn load_pair_n1(idx: u32) -> vec4<f64> {
+fn load_pair_n1(idx: u32) -> ContactPointer {
     let at = slot_chunk_of(idx);
     if at.x == 0u {
         return pair_n1_0[at.y];
@@ -302,7 +310,7 @@ fn load_pair_n1(idx: u32) -> vec4<f64> {
     return pair_n1_2[at.y];
 }
 
-fn store_pair_n1(idx: u32, value: vec4<f64>) {
+fn store_pair_n1(idx: u32, value: ContactPointer) {
     let at = slot_chunk_of(idx);
     if at.x == 0u {
         pair_n1_0[at.y] = value;

@@ -16,9 +16,9 @@ fn apply_inelastic_limits(i: u32) {
         let j = pair_partner[idx];
         let x2 = position[j].xyz;
         let stored_n1 = load_pair_n1(idx);
-        var n1 = stored_n1.xyz;
+        var n1 = stored_n1.n;
         var n2 = load_pair_n2(idx).xyz;
-        var twist = stored_n1.w;
+        var twist = stored_n1.twist;
 
         let nc = vec_normalize(x1 - x2);
         // The step energy of the contact as it stands: a correction's "after" is the next
@@ -55,7 +55,7 @@ fn apply_inelastic_limits(i: u32) {
             twist = twisted.twist;
             add_tally(i, TALLY_TWISTING, before - pair_step_energy(i, j, n1, n2, twist));
         }
-        store_pair_n1(idx, vec4<f64>(n1, twist));
+        store_pair_n1(idx, ContactPointer(n1, twist));
         store_pair_n2(idx, vec4<f64>(n2, 0.0lf));
     }
 }
@@ -73,8 +73,8 @@ fn wall_contacts_of(i: u32) {
         let wall = wall_table[wall_id[idx]];
         let k = wall.k;
         let normal = wall.normal.xyz;
-        var n1 = wall_n1[idx].xyz;
-        var twist = wall_n1[idx].w;
+        var n1 = wall_n1[idx].n;
+        var twist = wall_n1[idx].twist;
         var anchor = wall_anchor[idx].xyz;
 
         // apply_wall_inelastic_limits: everything goes to the walls channel. The contact as it
@@ -103,7 +103,7 @@ fn wall_contacts_of(i: u32) {
         if changed {
             let before = wall_step_energy(i, wall, n1_before, anchor_before, twist_before);
             add_tally(i, TALLY_WALLS, before - wall_step_energy(i, wall, n1, anchor, twist));
-            wall_n1[idx] = vec4<f64>(n1, twist);
+            wall_n1[idx] = ContactPointer(n1, twist);
             wall_anchor[idx] = vec4<f64>(anchor, 0.0lf);
         }
 

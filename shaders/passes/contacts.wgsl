@@ -137,7 +137,7 @@ fn contact_events(i: u32) {
         let delta = 2.0lf * r - vec_length(x - position[j].xyz);
         if delta < -params.pair.delta_c {
             let a = load_pair_n1(idx);
-            add_tally(i, TALLY_BREAKING, pair_step_energy(i, j, a.xyz, load_pair_n2(idx).xyz, a.w));
+            add_tally(i, TALLY_BREAKING, pair_step_energy(i, j, a.n, load_pair_n2(idx).xyz, a.twist));
             // No longer a partner: a candidate again (it may touch again before a rebuild).
             insert_candidate(i, j);
             let last = base + count - 1u;
@@ -158,7 +158,7 @@ fn contact_events(i: u32) {
         let delta = wall_overlap(x, w.point.xyz, w.normal.xyz, r);
         if delta < -w.k.delta_c {
             let a = wall_n1[idx];
-            add_tally(i, TALLY_WALLS, wall_step_energy(i, w, a.xyz, wall_anchor[idx].xyz, a.w));
+            add_tally(i, TALLY_WALLS, wall_step_energy(i, w, a.n, wall_anchor[idx].xyz, a.twist));
             let last = wall_base + wcount - 1u;
             wall_n1[idx] = wall_n1[last];
             wall_anchor[idx] = wall_anchor[last];
@@ -192,7 +192,7 @@ fn contact_events(i: u32) {
         let n2 = nc;
         add_tally(i, TALLY_FORMING, -pair_step_energy(i, j, n1, n2, 0.0lf));
         let idx = base + count;
-        store_pair_n1(idx, vec4<f64>(n1, 0.0lf));
+        store_pair_n1(idx, ContactPointer(n1, 0.0lf));
         store_pair_n2(idx, vec4<f64>(n2, 0.0lf));
         pair_partner[idx] = j;
         count += 1u;
@@ -217,7 +217,7 @@ fn contact_events(i: u32) {
         let anchor = x - normal * r;
         add_tally(i, TALLY_WALLS, -wall_step_energy(i, w, n1, anchor, 0.0lf));
         let idx = wall_base + wcount;
-        wall_n1[idx] = vec4<f64>(n1, 0.0lf);
+        wall_n1[idx] = ContactPointer(n1, 0.0lf);
         wall_anchor[idx] = vec4<f64>(anchor, 0.0lf);
         wall_id[idx] = w_idx;
         wcount += 1u;
@@ -254,7 +254,7 @@ fn contacts_pair_tests(
             let stored_n1 = load_pair_n1(idx);
             test_pair_contact(
                 i, position[i].xyz, position[pair_partner[idx]].xyz,
-                stored_n1.xyz, load_pair_n2(idx).xyz, stored_n1.w,
+                stored_n1.n, load_pair_n2(idx).xyz, stored_n1.twist,
             );
         }
     }

@@ -65,7 +65,7 @@ fn contact_forces(idx: u32) {
     let n2 = load_pair_n2(idx).xyz;
     let it = pair_interaction(
         position[i].xyz, position[j].xyz, velocity[i].xyz, velocity[j].xyz,
-        stored_n1.xyz, n2, stored_n1.w,
+        stored_n1.n, n2, stored_n1.twist,
     );
     store_pair_result(idx, PairResult(it.f, it.fd, it.m1, it.m2));
     let at = atomicAdd(&incoming_count[j], 1u);

@@ -53,8 +53,8 @@ fn kick(i: u32) {
         let idx = i * params.wall_slots + slot;
         let a = wall_n1[idx];
         let normal = wall_table[wall_id[idx]].normal.xyz;
-        let twist = a.w + twist_increment(w, normal, dt);
-        wall_n1[idx] = vec4<f64>(rotate_pointer(a.xyz, turn), twist);
+        let twist = a.twist + twist_increment(w, normal, dt);
+        wall_n1[idx] = ContactPointer(rotate_pointer(a.n, turn), twist);
     }
 }
 
@@ -95,10 +95,10 @@ fn turn_pair_pointers(idx: u32) {
     let vj = velocity[j].xyz;
     // Contact normal at mid-step, x(n+½) = x(n) + v(n+½) dt/2.
     let nc_mid = vec_normalize((xi - xj) + (vi - vj) * (0.5lf * dt));
-    let twist = a.w + twist_increment(wi - wj, nc_mid, dt);
-    let n1 = rotate_pointer(a.xyz, wi * dt);
+    let twist = a.twist + twist_increment(wi - wj, nc_mid, dt);
+    let n1 = rotate_pointer(a.n, wi * dt);
     let n2 = rotate_pointer(b.xyz, wj * dt);
-    store_pair_n1(idx, vec4<f64>(n1, twist));
+    store_pair_n1(idx, ContactPointer(n1, twist));
     store_pair_n2(idx, vec4<f64>(n2, 0.0lf));
     test_pair_contact(i, xi + vi * params.dt, xj + vj * params.dt, n1, n2, twist);
 }

@@ -37,7 +37,7 @@ fn monomer_energy(i: u32) -> array<f64, 4> {
         let idx = i * params.pair_slots + slot;
         let y = position[pair_partner[idx]].xyz;
         let n1 = load_pair_n1(idx);
-        let total = pair_contact_potential(x, y, n1.xyz, load_pair_n2(idx).xyz, n1.w);
+        let total = pair_contact_potential(x, y, n1.n, load_pair_n2(idx).xyz, n1.twist);
         let normal = jkr_potential_at_overlap((2.0lf * r - vec_length(x - y)) / k.delta0, k.f_c, k.delta0);
         e[2] = e[2] + normal;
         e[3] = e[3] + (total - normal);
@@ -46,7 +46,7 @@ fn monomer_energy(i: u32) -> array<f64, 4> {
         let idx = i * params.wall_slots + slot;
         let wall = wall_table[wall_id[idx]];
         let n1 = wall_n1[idx];
-        let total = wall_contact_potential(x, wall, n1.xyz, wall_anchor[idx].xyz, n1.w);
+        let total = wall_contact_potential(x, wall, n1.n, wall_anchor[idx].xyz, n1.twist);
         let delta = wall_overlap(x, wall.point.xyz, wall.normal.xyz, r);
         let normal = jkr_potential_at_overlap(delta / wall.k.delta0, wall.k.f_c, wall.k.delta0);
         e[2] = e[2] + normal;

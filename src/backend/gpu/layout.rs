@@ -251,6 +251,9 @@ mod tests {
                 damping_power
             )
         );
+        // The host writes a pointer and its twist as [x, y, z, twist] (engine::upload).
+        let pointer = wgsl_struct(&module, "ContactPointer");
+        assert_eq!(pointer, (32, vec![("n".into(), 0), ("twist".into(), 24)]));
         let w = wgsl_struct(&module, "Wall");
         assert_eq!(w.0 as usize, std::mem::size_of::<GpuWall>());
         assert_eq!(w.1, offsets!(GpuWall, point, normal, velocity, k));
