@@ -183,6 +183,103 @@ fn flag_of(function: &str) -> String {
     format!("{function} (fired)")
 }
 
+/// `function`'s error on one record: against its scale, or relative to its own size.
+fn error_of(function: &str, gpu: &[f64], cpu: &[f64], c: &Case) -> f64 {
+    match scale(function, c) {
+        Some(scale) => {
+            let diff = gpu
+                .iter()
+                .zip(cpu)
+                .fold(0.0f64, |m, (g, c)| m.max((g - c).abs()));
+            if diff.is_nan() {
+                f64::INFINITY
+            } else {
+                diff / scale
+            }
+        }
+        None => relative_difference(gpu, cpu),
+    }
+}
+
+/// The comparison of one run: per function the largest error / scale, the largest error /
+/// bound and its record; corrections firing on one side only; degenerate wall pointers.
+#[derive(Default)]
+struct Summary {
+    worst: BTreeMap<&'static str, (f64, f64, usize)>,
+    flips: BTreeMap<String, usize>,
+    degenerate: usize,
+}
+
+impl Summary {
+    fn add(&mut self, i: usize, values: &[f64], rust: &Record, c: &Case) {
+        let group = |name: &str| rust.groups.iter().find(|(n, _)| *n == name);
+        for (name, range) in &rust.groups {
+            let (g, cpu) = (&values[range.clone()], &rust.values[range.clone()]);
+            if name.ends_with("(fired)") {
+                if g != cpu {
+                    *self.flips.entry(name.to_string()).or_default() += 1;
+                }
+                continue;
+            }
+            if *name == "wall_rolling_correction" && along_the_normal(c) {
+                self.degenerate += 1;
+                continue;
+            }
+            if let Some((_, flag)) = group(&flag_of(name)) {
+                if values[flag.clone()] != rust.values[flag.clone()] {
+                    continue;
+                }
+            }
+            let rel = error_of(name, g, cpu, c);
+            let of_bound = bound(name, c).map(|b| rel / b);
+            let entry = self.worst.entry(name).or_default();
+            // The worst record: by error / bound, or by error where only reported.
+            let (key, old_key) = match of_bound {
+                Some(r) => (r, entry.1),
+                None => (rel, entry.0),
+            };
+            if key > old_key || i == 0 {
+                entry.2 = i;
+            }
+            entry.0 = entry.0.max(rel);
+            entry.1 = entry.1.max(of_bound.unwrap_or(0.0));
+        }
+    }
+
+    /// Prints the table and fails on an error beyond its bound or flips on 1 % of records.
+    fn print_and_check(&self, adapter: &str, records: usize, any: &Case) {
+        println!("f32 contact law on {adapter} (SHADER_F64 refused), {records} records:");
+        println!(
+            "  {:<34} {:>11} {:>13}  worst record",
+            "function", "error", "error / bound"
+        );
+        let mut over = Vec::new();
+        for (name, (rel, of_bound, at)) in &self.worst {
+            let shown = match bound(name, any) {
+                Some(_) => format!("{of_bound:.3}"),
+                None => "reported".to_string(),
+            };
+            println!("  {name:<34} {rel:>11.3e} {shown:>13}  {at}");
+            if *of_bound > 1.0 {
+                over.push(format!("{name}: {of_bound:.3} of its bound (record {at})"));
+            }
+        }
+        println!("  corrections firing on one side only: {:?}", self.flips);
+        println!(
+            "  wall pointers along the normal (correction direction arbitrary): {}",
+            self.degenerate
+        );
+        assert!(
+            over.is_empty(),
+            "f32 beyond its bound:\n{}",
+            over.join("\n")
+        );
+        for (name, n) in &self.flips {
+            assert!(*n * 100 < records, "{name} flips on {n} records");
+        }
+    }
+}
+
 #[test]
 fn the_contact_law_in_f32_on_a_device_without_f64() {
     let Some(ctx) = context_for_tests_with(ShaderF64::Refused) else {
@@ -211,10 +308,7 @@ fn the_contact_law_in_f32_on_a_device_without_f64() {
     let inputs: Vec<f32> = inputs.iter().map(|&x| x as f32).collect();
     let gpu = super::gpu_support::run_probe_f32(&ctx, &module, &inputs, in_stride, written + 2);
 
-    // Per function: the largest error / scale, and the largest error / bound (with its record).
-    let mut worst: BTreeMap<&str, (f64, f64, usize)> = BTreeMap::new();
-    let mut flips: BTreeMap<String, usize> = BTreeMap::new();
-    let mut degenerate = 0;
+    let mut summary = Summary::default();
     for (i, (record, rust)) in gpu.chunks(written + 2).zip(&expected).enumerate() {
         assert_eq!(
             (record[0] as usize, record[1] as usize),
@@ -222,80 +316,7 @@ fn the_contact_law_in_f32_on_a_device_without_f64() {
             "record {i}: the probe read/wrote another layout"
         );
         let values: Vec<f64> = record[2..].iter().map(|&v| f64::from(v)).collect();
-        let group = |name: &str| rust.groups.iter().find(|(n, _)| *n == name);
-        for (name, range) in &rust.groups {
-            let (g, c) = (&values[range.clone()], &rust.values[range.clone()]);
-            if name.ends_with("(fired)") {
-                if g != c {
-                    *flips.entry(name.to_string()).or_default() += 1;
-                }
-                continue;
-            }
-            if *name == "wall_rolling_correction" && along_the_normal(&cases[i]) {
-                degenerate += 1;
-                continue;
-            }
-            if let Some((_, flag)) = group(&flag_of(name)) {
-                if values[flag.clone()] != rust.values[flag.clone()] {
-                    continue;
-                }
-            }
-            let rel = match scale(name, &cases[i]) {
-                Some(scale) => {
-                    let diff = g
-                        .iter()
-                        .zip(c)
-                        .fold(0.0f64, |m, (g, c)| m.max((g - c).abs()));
-                    if diff.is_nan() {
-                        f64::INFINITY
-                    } else {
-                        diff / scale
-                    }
-                }
-                None => relative_difference(g, c),
-            };
-            let of_bound = bound(name, &cases[i]).map(|b| rel / b);
-            let entry = worst.entry(name).or_default();
-            // The worst record: by error / bound, or by error where only reported.
-            let (key, old_key) = match of_bound {
-                Some(r) => (r, entry.1),
-                None => (rel, entry.0),
-            };
-            if key > old_key || i == 0 {
-                entry.2 = i;
-            }
-            entry.0 = entry.0.max(rel);
-            entry.1 = entry.1.max(of_bound.unwrap_or(0.0));
-        }
+        summary.add(i, &values, rust, &cases[i]);
     }
-    println!(
-        "f32 contact law on {} (SHADER_F64 refused), {} records:",
-        ctx.summary().name,
-        cases.len()
-    );
-    println!(
-        "  {:<34} {:>11} {:>13}  worst record",
-        "function", "error", "error / bound"
-    );
-    let mut over = Vec::new();
-    for (name, (rel, of_bound, at)) in &worst {
-        let shown = match bound(name, &cases[0]) {
-            Some(_) => format!("{of_bound:.3}"),
-            None => "reported".to_string(),
-        };
-        println!("  {name:<34} {rel:>11.3e} {shown:>13}  {at}");
-        if *of_bound > 1.0 {
-            over.push(format!("{name}: {of_bound:.3} of its bound (record {at})"));
-        }
-    }
-    println!("  corrections firing on one side only: {flips:?}");
-    println!("  wall pointers along the normal (correction direction arbitrary): {degenerate}");
-    assert!(
-        over.is_empty(),
-        "f32 beyond its bound:\n{}",
-        over.join("\n")
-    );
-    for (name, n) in &flips {
-        assert!(*n * 100 < cases.len(), "{name} flips on {n} records");
-    }
+    summary.print_and_check(&ctx.summary().name, cases.len(), &cases[0]);
 }
