@@ -128,8 +128,8 @@ fn best_plateaus_solve_the_linear_least_squares_exactly() {
 
 #[test]
 fn the_grid_start_lands_next_to_the_truth() {
-    // Transitions narrower and wider than the midpoint start's Δ = 0.5, at either end of the
-    // sampled range: the start is the grid node next to the truth, one step of
+    // Transitions narrower and wider than the midpoint start's Δ = 0.5, across the sampled
+    // range: the start is the grid node next to the truth, one step of
     // (range + 1 decade)/60 in log p_m and one factor 100^(1/19) in Δ.
     for truth in [
         Eq13 {
@@ -140,6 +140,12 @@ fn the_grid_start_lands_next_to_the_truth() {
         Eq13 {
             p_m: 1e3,
             delta: 0.9,
+            ..GUETTLER
+        },
+        // Next to the lowest pressure: the grid reaches half a decade below the data.
+        Eq13 {
+            p_m: 10f64.powf(1.25),
+            delta: 0.15,
             ..GUETTLER
         },
     ] {
