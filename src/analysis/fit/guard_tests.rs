@@ -171,3 +171,32 @@ fn the_grid_start_lands_next_to_the_truth() {
         assert!(d.chi2(&initial_guess(&d, None, None)) < d.chi2(&midpoint_guess(&d, None, None)));
     }
 }
+
+#[test]
+fn the_midpoint_start_crosses_half_way_between_the_plateaus() {
+    let truth = GUETTLER;
+    let (x, y, w) = noise_free(truth);
+    let d = Problem {
+        x: &x,
+        y: &y,
+        w: &w,
+        model: &model,
+        admissible: &|_| true,
+    };
+    let (lo, hi) = (truth.phi(1e1), truth.phi(1e6));
+    let [phi1, phi2, log_pm, delta] = midpoint_guess(&d, None, None);
+    assert_eq!((phi1, phi2, delta), (lo, hi, 0.5));
+    // The crossing of the half-way φ, interpolated between the two samples around it, against
+    // the law's own inverse: the interpolation's error is below a tenth of the 1/6-decade
+    // sample spacing.
+    let crossing = truth.pressure_at(0.5 * (lo + hi)).unwrap().log10();
+    assert!((log_pm - crossing).abs() < 0.02, "{log_pm} for {crossing}");
+    // Held plateaus set the half-way φ: 0.15 and 0.4 cross at the law's φ = 0.275.
+    let [phi1, phi2, log_pm, _] = midpoint_guess(&d, Some(0.15), Some(0.4));
+    assert_eq!((phi1, phi2), (0.15, 0.4));
+    let crossing = truth.pressure_at(0.275).unwrap().log10();
+    assert!((log_pm - crossing).abs() < 0.02, "{log_pm} for {crossing}");
+    // A half-way φ no sample crosses: the sample nearest to it, here the lowest pressure.
+    let [_, _, log_pm, _] = midpoint_guess(&d, Some(0.0), Some(0.2));
+    assert_eq!(log_pm, x[0]);
+}
