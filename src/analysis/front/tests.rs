@@ -309,3 +309,34 @@ fn elapsed_front_reads_only_fronts_in_the_middle_half() {
         mean(&middle)
     );
 }
+
+#[test]
+fn profiles_without_a_slab_thickness_or_slabs_give_no_front() {
+    // A compacted profile that would give a front, once with slabs of no or undefined
+    // thickness (a zero thickness would make every slab line up and the front land on a
+    // slab centre) and once with no slabs.
+    let init = profile(0.0, vec![0.15; 20], None);
+    let all = profile(1e-6, vec![0.5; 20], None);
+    assert!(front_height(&init, &all, &FrontOptions::default()).is_some());
+    for thickness_m in [0.0, -D, f64::NAN] {
+        let flat = |p: &Profile| Profile {
+            thickness_m,
+            z_m: vec![0.0; p.z_m.len()],
+            ..p.clone()
+        };
+        assert_eq!(
+            front_height(&flat(&init), &flat(&all), &FrontOptions::default()),
+            None,
+            "thickness {thickness_m}"
+        );
+    }
+    let empty = |p: &Profile| Profile {
+        z_m: Vec::new(),
+        phi: Vec::new(),
+        ..p.clone()
+    };
+    assert_eq!(
+        front_height(&empty(&init), &empty(&all), &FrontOptions::default()),
+        None
+    );
+}
