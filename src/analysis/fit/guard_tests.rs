@@ -148,6 +148,12 @@ fn the_grid_start_lands_next_to_the_truth() {
             delta: 0.15,
             ..GUETTLER
         },
+        // Next to the highest: the grid reaches half a decade above.
+        Eq13 {
+            p_m: 10f64.powf(5.75),
+            delta: 0.15,
+            ..GUETTLER
+        },
     ] {
         let (x, y, w) = noise_free(truth);
         let d = Problem {
@@ -162,6 +168,19 @@ fn the_grid_start_lands_next_to_the_truth() {
         assert!(
             (log_pm - truth.p_m.log10()).abs() <= step,
             "{truth:?}: log p_m {log_pm}"
+        );
+        // A node of the grid: log p_m = (x_min − 0.5) + i·step, i = 0…60, and
+        // Δ = 0.03·100^(j/19), j = 0…19.
+        let i = ((log_pm - 0.5) / step).round();
+        assert!(
+            (0.0..=60.0).contains(&i) && (0.5 + i * step - log_pm).abs() < 1e-12,
+            "{log_pm}"
+        );
+        let j = ((delta / 0.03).ln() / 100f64.ln() * 19.0).round();
+        let node = 0.03 * 100f64.powf(j / 19.0);
+        assert!(
+            (0.0..=19.0).contains(&j) && (node / delta - 1.0).abs() < 1e-12,
+            "{delta}"
         );
         let factor = 100f64.powf(1.0 / 19.0);
         assert!(
