@@ -340,3 +340,69 @@ fn profiles_without_a_slab_thickness_or_slabs_give_no_front() {
         None
     );
 }
+
+/// `run` with every height raised by `dz` and every time shifted by `dt`: the same physics
+/// seen from another origin.
+fn moved(run: &[Profile], dz: f64, dt: f64) -> Vec<Profile> {
+    run.iter()
+        .map(|p| Profile {
+            time_s: p.time_s + dt,
+            z_m: p.z_m.iter().map(|z| z + dz).collect(),
+            wall_m: p.wall_m.map(|w| w + dz),
+            ..p.clone()
+        })
+        .collect()
+}
+
+#[test]
+fn front_readings_do_not_depend_on_where_heights_and_times_start() {
+    // A sample standing 20 µm above z = 0 and a clock started 100 s earlier: heights above the
+    // bottom and times since the start are what count, so every reading is the same.
+    let (delay, v_wall) = (2e-6, 5.0);
+    let (run, _) = delayed_run(v_wall, 0.0, delay);
+    let far = moved(&run, 20e-6, 100.0);
+    let (near_e, far_e) = (
+        elapsed_front_speed(&run, 0.01).unwrap(),
+        elapsed_front_speed(&far, 0.01).unwrap(),
+    );
+    assert_eq!(near_e.profiles, far_e.profiles);
+    assert!(
+        (near_e.v - far_e.v).abs() < 1e-6 * near_e.v,
+        "{near_e:?} {far_e:?}"
+    );
+    let opt = FrontOptions::default();
+    let (near_s, far_s) = (
+        run_front_speed(&run, &opt).unwrap(),
+        run_front_speed(&far, &opt).unwrap(),
+    );
+    // Least squares on times 100 s + a few µs: only centred times keep the slope.
+    assert!(
+        (near_s.front.v - far_s.front.v).abs() < 1e-6 * near_s.front.v,
+        "{near_s:?} {far_s:?}"
+    );
+    let lead = |s: &FrontSpeed| s.mean_lead_m.unwrap();
+    assert!(
+        (lead(&near_s) - lead(&far_s)).abs() < 1e-12,
+        "{near_s:?} {far_s:?}"
+    );
+}
+
+#[test]
+fn the_mean_lead_is_the_mean_height_of_the_front_below_the_wall() {
+    // Fronts 3, 4 and 5 µm below the wall at three times: the mean lead is −4 µm.
+    let point = |t: f64, front_m: f64, wall_m: f64| FrontPoint {
+        time_s: t,
+        front_m,
+        wall_m: Some(wall_m),
+        reached_bottom: false,
+    };
+    let points = [
+        point(1e-6, 50e-6, 53e-6),
+        point(2e-6, 40e-6, 44e-6),
+        point(3e-6, 30e-6, 35e-6),
+    ];
+    let s = front_speed(&points).unwrap();
+    assert!((s.mean_lead_m.unwrap() + 4e-6).abs() < 1e-18, "{s:?}");
+    assert!((s.front.v - 10.0).abs() < 1e-9, "{s:?}");
+    assert!((s.wall.unwrap().v - 9.0).abs() < 1e-9, "{s:?}");
+}
