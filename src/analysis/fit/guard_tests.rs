@@ -93,6 +93,17 @@ fn negative_sigma_and_non_positive_initial_values_are_refused() {
     }
 }
 
+/// The fit's problem on points (x = log₁₀p, φ, weight), with every θ admissible.
+fn problem<'a>(x: &'a [f64], y: &'a [f64], w: &'a [f64]) -> Problem<'a> {
+    Problem {
+        x,
+        y,
+        w,
+        model: &model,
+        admissible: &|_| true,
+    }
+}
+
 /// Noise-free points of `truth` at 31 pressures from 10 Pa to 1 MPa, as the fit sees them.
 fn noise_free(truth: Eq13) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     let p = logspace(1e1, 1e6, 31);
@@ -105,13 +116,7 @@ fn noise_free(truth: Eq13) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
 fn best_plateaus_solve_the_linear_least_squares_exactly() {
     let truth = GUETTLER;
     let (x, y, w) = noise_free(truth);
-    let d = Problem {
-        x: &x,
-        y: &y,
-        w: &w,
-        model: &model,
-        admissible: &|_| true,
-    };
+    let d = problem(&x, &y, &w);
     let (log_pm, delta) = (truth.p_m.log10(), truth.delta);
     let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
     let (p1, p2) = best_plateaus(&d, log_pm, delta, None, None).unwrap();
@@ -156,13 +161,7 @@ fn the_grid_start_lands_next_to_the_truth() {
         },
     ] {
         let (x, y, w) = noise_free(truth);
-        let d = Problem {
-            x: &x,
-            y: &y,
-            w: &w,
-            model: &model,
-            admissible: &|_| true,
-        };
+        let d = problem(&x, &y, &w);
         let [_, _, log_pm, delta] = initial_guess(&d, None, None);
         let step = (5.0 + 1.0) / 60.0;
         assert!(
@@ -195,13 +194,7 @@ fn the_grid_start_lands_next_to_the_truth() {
 fn the_midpoint_start_crosses_half_way_between_the_plateaus() {
     let truth = GUETTLER;
     let (x, y, w) = noise_free(truth);
-    let d = Problem {
-        x: &x,
-        y: &y,
-        w: &w,
-        model: &model,
-        admissible: &|_| true,
-    };
+    let d = problem(&x, &y, &w);
     let (lo, hi) = (truth.phi(1e1), truth.phi(1e6));
     let [phi1, phi2, log_pm, delta] = midpoint_guess(&d, None, None);
     assert_eq!((phi1, phi2, delta), (lo, hi, 0.5));

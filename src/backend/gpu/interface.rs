@@ -12,16 +12,7 @@ include!(concat!(env!("OUT_DIR"), "/gpu_interface.rs"));
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::backend::gpu::shader::{assemble, assemble_pass, modules, ENGINE, PASSES};
-
-    fn engine_module() -> naga::Module {
-        let bindings = ENGINE.iter().find(|m| m.name() == "bindings").unwrap();
-        assemble(bindings, &modules())
-            .unwrap()
-            .validate()
-            .unwrap()
-            .0
-    }
+    use crate::backend::gpu::shader::{assemble_pass, engine_module, PASSES};
 
     #[test]
     fn bindings_are_the_wgsl_declarations_in_number_order() {

@@ -151,16 +151,7 @@ pub fn vec4(v: glam::DVec3) -> [f64; 4] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::backend::gpu::shader::{assemble, modules, ENGINE};
-
-    fn engine_module() -> naga::Module {
-        let bindings = ENGINE.iter().find(|m| m.name() == "bindings").unwrap();
-        assemble(bindings, &modules())
-            .unwrap()
-            .validate()
-            .unwrap()
-            .0
-    }
+    use crate::backend::gpu::shader::engine_module;
 
     /// (size, [(member, offset)]) of the WGSL struct `name`.
     fn wgsl_struct(module: &naga::Module, name: &str) -> (u32, Vec<(String, u32)>) {

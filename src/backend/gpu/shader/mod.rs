@@ -154,6 +154,18 @@ pub fn modules() -> Vec<Source> {
 /// none ([`Precision::capabilities`]).
 pub const CAPABILITIES: naga::valid::Capabilities = naga::valid::Capabilities::FLOAT64;
 
+/// The engine's bindings module (shaders/engine/bindings.wgsl with its requirements) as naga
+/// reads it, for the tests that hold the host side to it.
+#[cfg(test)]
+pub(crate) fn engine_module() -> naga::Module {
+    let bindings = ENGINE.iter().find(|m| m.name() == "bindings").unwrap();
+    assemble(bindings, &modules())
+        .unwrap()
+        .validate()
+        .unwrap()
+        .0
+}
+
 /// Assembles the registered pass or probe called `name` (file stem, e.g. `contact_law_probe`).
 pub fn assemble_pass(name: &str) -> Result<Assembled, ShaderError> {
     let pass = PASSES
