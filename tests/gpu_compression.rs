@@ -12,7 +12,9 @@
 mod gpu_support;
 
 use dustdem::backend::cpu::CpuEngine;
-use dustdem::backend::gpu::context::context_for_tests;
+use dustdem::backend::gpu::context::{
+    context_for_tests, context_for_tests_with, GpuContext, ShaderF64,
+};
 use dustdem::backend::gpu::engine::GpuEngine;
 use dustdem::backend::gpu::shader::FloatMode;
 use dustdem::config::Config;
@@ -34,12 +36,12 @@ fn rows<E: Engine>(mut run: Compression<E>) -> Vec<Row> {
 
 /// Both backends, the GPU in `mode` (default: the device's own).
 fn both_in(mode: Option<FloatMode>, text: &str) -> Option<(Vec<Row>, Vec<Row>, FloatMode)> {
-    let config = Config::parse(text, "test").unwrap();
     let mut ctx = context_for_tests()?;
     if let Some(mode) = mode {
         ctx.float_mode = mode;
     }
     let mode = ctx.float_mode;
+    let config = Config::parse(text, "test").unwrap();
     let cpu = rows(Compression::with_engine(&config, CpuEngine::new).unwrap());
     let gpu = rows(
         Compression::with_engine(&config, |law, dt, m, w, ps, ws| {
@@ -101,29 +103,33 @@ fn relaxed_mode_1_m_per_s_compression_of_1000_monomers_gives_the_same_curve() {
     compare_1_m_per_s(Some(FloatMode::Relaxed));
 }
 
+fn assert_statistically_equal(what: &str, cpu: &[Row], gpu: &[Row]) {
+    let (dc, dg) = (phi_at_decades(cpu), phi_at_decades(gpu));
+    for ((k, a), (_, b)) in dc.iter().zip(&dg) {
+        eprintln!(
+            "{what}: P = 1e{k} Pa: phi cpu {a:.5} gpu {b:.5} (diff {:.1e})",
+            b - a
+        );
+    }
+    assert!(dc.len() >= 3, "the run passes at least three decades of P");
+    assert_eq!(dc.len(), dg.len(), "both runs pass the same decades");
+    for ((k, a), (_, b)) in dc.iter().zip(&dg) {
+        assert!((a - b).abs() <= 0.01, "P = 1e{k} Pa: phi {a} vs {b}");
+    }
+}
+
 fn compare_1_m_per_s(mode: Option<FloatMode>) {
     let Some((cpu, gpu, mode)) = both_in(mode, ONE_M_PER_S) else {
         return;
     };
     let dp = pressure_difference(&cpu, &gpu);
-    let (dc, dg) = (phi_at_decades(&cpu), phi_at_decades(&gpu));
-    for ((k, a), (_, b)) in dc.iter().zip(&dg) {
-        eprintln!(
-            "{mode:?}: P = 1e{k} Pa: phi cpu {a:.5} gpu {b:.5} (diff {:.1e})",
-            b - a
-        );
-    }
     eprintln!(
         "{mode:?}: {} rows to φ = {:.3}, P_top up to {:.3e} Pa; max |ΔP|/P {dp:e}",
         cpu.len(),
         cpu.last().unwrap().phi,
         cpu.iter().map(|r| r.p_top).fold(0.0, f64::max)
     );
-    assert!(dc.len() >= 3, "the run passes at least three decades of P");
-    assert_eq!(dc.len(), dg.len(), "both runs pass the same decades");
-    for ((k, a), (_, b)) in dc.iter().zip(&dg) {
-        assert!((a - b).abs() <= 0.01, "P = 1e{k} Pa: phi {a} vs {b}");
-    }
+    assert_statistically_equal(&format!("{mode:?}"), &cpu, &gpu);
     if mode == FloatMode::Exact {
         // Bit-identical trajectories: equal rows, pressures up to the wall-force summation order.
         assert_eq!(cpu.len(), gpu.len());
@@ -150,6 +156,64 @@ fn a_1_cm_per_s_segment_gives_the_same_mean_wall_force() {
 #[test]
 fn a_1_cm_per_s_segment_gives_the_same_mean_wall_force_in_the_relaxed_mode() {
     compare_1_cm_per_s(Some(FloatMode::Relaxed));
+}
+
+/// The mixed precision on a device without f64. Its trajectory leaves the f64 one at once (inputs
+/// rounded at 10⁻⁷), and this segment's mean pressure is chaotic at that level: moving every
+/// centre of the f64 run by ±10⁻¹⁰ cm (a quarter of an f32 coordinate's ulp here) moved it by
+/// 6.0 %, ±10⁻⁹ cm by 2.2 %. So the mixed run must land within the spread of f64 runs from
+/// such perturbed starts (three of them; bound: twice their largest distance from the
+/// unperturbed run), and close its energy balance as the f64 run does (to 1e-4 of the wall
+/// work). The wall's 3.6·10⁻¹⁰ cm per step is below an f32 coordinate's ulp there: this holds
+/// only with the double-f32 wall point.
+#[test]
+#[ignore = "fails today: the mixed run lands 5.4 % off (spread 2.2 %) and its energy balance moves by 0.17 of the wall work (DESIGN.md, \"The mixed engine\")"]
+fn a_1_cm_per_s_segment_in_the_mixed_precision_stays_within_the_f64_spread() {
+    let Some(ctx) = context_for_tests_with(ShaderF64::Refused) else {
+        return;
+    };
+    let (state, top, steps) = segment_start();
+    let normal = state.walls[top].normal;
+    let mean_and_closure = |e: &mut dyn Engine| {
+        let start = e.energy();
+        let f = e.run_mean_wall_force(steps).unwrap()[top].dot(normal);
+        let end = e.energy();
+        let work = (end.wall_work - start.wall_work).abs();
+        (f, (end.balance() - start.balance()).abs() / work)
+    };
+    let (f_exact, closure_exact) = mean_and_closure(&mut state.clone());
+    let mut spread = 0.0f64;
+    for (k, eps) in [1e-10, -1e-10, 1e-9].into_iter().enumerate() {
+        let mut s = state.clone();
+        for (i, x) in s.monomers.position.iter_mut().enumerate() {
+            x.x += if (i + k) % 2 == 0 { eps } else { -eps };
+        }
+        let (f, _) = mean_and_closure(&mut s);
+        spread = spread.max((f - f_exact).abs() / f_exact.abs());
+    }
+    let mut gpu = GpuEngine::resume(ctx, &state).unwrap();
+    let (f_mixed, closure_mixed) = mean_and_closure(&mut gpu);
+    let rel = (f_mixed - f_exact).abs() / f_exact.abs();
+    eprintln!(
+        "mixed: mean top force {f_mixed:.6e} vs f64 {f_exact:.6e} dyn (rel {rel:.2e}; perturbed f64          runs up to {spread:.2e}); energy balance moved by {closure_mixed:.2e} (mixed) and          {closure_exact:.2e} (f64) of the wall work"
+    );
+    assert!(spread > 0.0);
+    assert!(rel <= 2.0 * spread, "{rel:e} vs spread {spread:e}");
+    assert!(closure_exact <= 1e-4, "{closure_exact:e}");
+    assert!(closure_mixed <= 1e-4, "{closure_mixed:e}");
+}
+
+/// The loaded state with the walls at a tenth of their speed (1 cm/s), the top wall's index
+/// and the steps of 20 nm of its travel.
+fn segment_start() -> (CpuEngine, usize, u64) {
+    let mut state = loaded().0.clone();
+    for wall in &mut state.walls {
+        wall.velocity *= 0.1;
+    }
+    let top = state.walls.iter().position(|w| w.name == "top").unwrap();
+    // 20 nm at 1 cm/s in steps of 0.6 ns.
+    let steps = (20e-7_f64 / 1.0 / state.dt).ceil() as u64;
+    (state, top, steps)
 }
 
 const LOADING: &str = "[sample]\nmonomers = 1000\nseed = 4\n[experiment]\n\
@@ -185,15 +249,23 @@ fn compare_1_cm_per_s(mode: Option<FloatMode>) {
         ctx.float_mode = mode;
     }
     let mode = ctx.float_mode;
-    let (loaded, area, phi) = loaded();
+    // Exact mode: measured 8.1e-16 (summation order only, as above), bound 1e-12. Relaxed mode
+    // (contracted multiply-adds on other adapters) lets trajectories drift apart; measured
+    // 8.2e-13 on lavapipe, the 2 % bound is for adapters that contract more.
+    let bound = if mode == FloatMode::Exact {
+        1e-12
+    } else {
+        0.02
+    };
+    segment_on(ctx, &format!("{mode:?}"), bound);
+}
+
+/// The loaded sample driven at 1 cm/s for 20 nm on the CPU and on `ctx`: the mean top-wall
+/// forces within `bound` of each other (relative).
+fn segment_on(ctx: GpuContext, mode: &str, bound: f64) {
+    let (_, area, phi) = loaded();
     let (area, phi) = (*area, *phi);
-    let mut state = loaded.clone();
-    for wall in &mut state.walls {
-        wall.velocity *= 0.1;
-    }
-    let top = state.walls.iter().position(|w| w.name == "top").unwrap();
-    // 20 nm at 1 cm/s in steps of 0.6 ns.
-    let steps = (20e-7_f64 / 1.0 / state.dt).ceil() as u64;
+    let (state, top, steps) = segment_start();
     let mut cpu = state.clone();
     let mut gpu = GpuEngine::resume(ctx, &state).unwrap();
     let f_cpu = Engine::run_mean_wall_force(&mut cpu, steps).unwrap()[top];
@@ -203,7 +275,7 @@ fn compare_1_cm_per_s(mode: Option<FloatMode>) {
     let (a, b) = (f_cpu.dot(normal), f_gpu.dot(normal));
     let rel = (a - b).abs() / a.abs();
     eprintln!(
-        "{mode:?}: from phi {:.3} with {:?} contacts, {steps} steps, wall travel {travel:.2} nm: \
+        "{mode}: from phi {:.3} with {:?} contacts, {steps} steps, wall travel {travel:.2} nm: \
          mean top pressure cpu {:.6e} gpu {:.6e} Pa (rel {rel:.1e}); contacts after cpu {:?} gpu {:?}",
         phi,
         Engine::contact_counts(&state),
@@ -217,13 +289,5 @@ fn compare_1_cm_per_s(mode: Option<FloatMode>) {
         a / area * 0.1 > 100.0,
         "the segment starts from a loaded state"
     );
-    // Exact mode: measured 8.1e-16 (summation order only, as above), bound 1e-12. Relaxed mode
-    // (contracted multiply-adds on other adapters) lets trajectories drift apart; measured
-    // 8.2e-13 on lavapipe, the 2 % bound is for adapters that contract more.
-    let bound = if mode == FloatMode::Exact {
-        1e-12
-    } else {
-        0.02
-    };
     assert!(rel <= bound, "{rel:e}");
 }

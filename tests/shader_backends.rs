@@ -16,7 +16,7 @@ fn every_pass() -> impl Iterator<Item = &'static Source> {
 /// The pass at `precision`, validated, with its overrides applied as the engine's pipelines
 /// apply them: once with their defaults and once for per-slot arrays in one binding.
 fn validated(pass: &Source, precision: Precision) -> Vec<(naga::Module, naga::valid::ModuleInfo)> {
-    let assembled = shader::assemble(pass, &shader::modules())
+    let assembled = shader::assemble(pass, &shader::modules_at(precision))
         .unwrap_or_else(|e| panic!("{e}"))
         .with_precision(precision);
     [assembled.clone(), assembled.with_one_slot_chunk()]

@@ -159,6 +159,7 @@ fn drive(
             progress: &mut on_row,
             interrupt: Some(&hooks.stop),
             backend,
+            precision: dustdem::job::PrecisionChoice::Auto,
             notice: &mut on_notice,
         };
         job(&mut options)

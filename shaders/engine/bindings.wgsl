@@ -1,3 +1,5 @@
+// requires: pointers accumulators
+//
 // The engine's device state: one bind group shared by every pass, so the step script binds it
 // once and every pipeline has the same explicit layout (SPIR-V passthrough modules cannot be
 // reflected). Mirrored by src/backend/gpu/buffers.rs (binding numbers) and src/backend/gpu/layout.rs (structs);
@@ -59,6 +61,8 @@ struct Wall {
     normal: vec4<f64>,
     velocity: vec4<f64>,
     k: Constants,
+    // The mixed precision's low part of `point` (a double-f32); zero and unread in the exact.
+    point_lo: vec4<f64>,
 }
 
 // Per monomer: the scales of its inverse mass and inertia (0 for a fixed monomer, as
@@ -71,13 +75,9 @@ struct MonomerAux {
     damping_power: f64,
 }
 
-// A contact's pointer on its owner and the contact's twisting angle (state::PairContact's n1 and
-// twist; state::WallContact's): 32 bytes, as a vec3<f64> is aligned to 32 and the twist fills
-// its fourth word.
-struct ContactPointer {
-    n: vec3<f64>,
-    twist: f64,
-}
+// The per-slot pointer records (`ContactPointer`: a contact's pointer on its owner and its
+// twisting angle, state::PairContact's n1 and twist, state::WallContact's; `SecondPointer`: n2)
+// are in engine/pointers.wgsl, one file per precision.
 
 // Walls the diagnostics block has room for.
 const MAX_WALLS: u32 = 8u;
@@ -199,7 +199,7 @@ const ROW_PARTIALS: u32 = 24u;
 @group(0) @binding(6) var<storage, read_write> torque: array<vec4<f64>>;
 @group(0) @binding(7) var<storage, read_write> damping_force: array<vec4<f64>>;
 @group(0) @binding(8) var<storage, read_write> aux: array<MonomerAux>;
-@group(0) @binding(9) var<storage, read_write> tally: array<f64>;
+@group(0) @binding(9) var<storage, read_write> tally: array<TallyEntry>;
 // Pair slots, `pair_slots` per owner (slot index owner · pair_slots + slot): pointer of the
 // owner (w: twist integral), pointer of the partner, partner index; the count per owner.
 // Per-slot vectors are split into SLOT_CHUNKS bindings of params.slot_chunk elements, so that
@@ -208,9 +208,9 @@ const ROW_PARTIALS: u32 = 24u;
 @group(0) @binding(10) var<storage, read_write> pair_n1_0: array<ContactPointer>;
 @group(0) @binding(11) var<storage, read_write> pair_n1_1: array<ContactPointer>;
 @group(0) @binding(12) var<storage, read_write> pair_n1_2: array<ContactPointer>;
-@group(0) @binding(13) var<storage, read_write> pair_n2_0: array<vec4<f64>>;
-@group(0) @binding(14) var<storage, read_write> pair_n2_1: array<vec4<f64>>;
-@group(0) @binding(15) var<storage, read_write> pair_n2_2: array<vec4<f64>>;
+@group(0) @binding(13) var<storage, read_write> pair_n2_0: array<SecondPointer>;
+@group(0) @binding(14) var<storage, read_write> pair_n2_1: array<SecondPointer>;
+@group(0) @binding(15) var<storage, read_write> pair_n2_2: array<SecondPointer>;
 @group(0) @binding(16) var<storage, read_write> pair_partner: array<u32>;
 @group(0) @binding(17) var<storage, read_write> pair_count: array<u32>;
 // Per-contact results of the forces pass (force on the owner f, its damping part fd, torque
@@ -289,6 +289,10 @@ const ROW_PARTIALS: u32 = 24u;
 @group(0) @binding(51) var<storage, read_write> row_data: array<f64>;
 @group(0) @binding(52) var<storage, read_write> row_profile_data: array<f64>;
 @group(0) @binding(53) var<storage, read_write> row_bits: array<atomic<u32>>;
+// The mixed precision's split centres (shaders/mixed_engine/positions.wgsl): the voxel and the
+// low part of the offset, which `position` then holds. Unread in the exact precision.
+@group(0) @binding(54) var<storage, read_write> position_voxel: array<vec4<i32>>;
+@group(0) @binding(55) var<storage, read_write> position_lo: array<vec4<f64>>;
 
 // Which binding of a per-slot array holds slot index `idx`, and where: (chunk, element).
 fn slot_chunk_of(idx: u32) -> vec2<u32> {
@@ -321,7 +325,7 @@ fn store_pair_n1(idx: u32, value: ContactPointer) {
     }
 }
 
-fn load_pair_n2(idx: u32) -> vec4<f64> {
+fn load_pair_n2(idx: u32) -> SecondPointer {
     let at = slot_chunk_of(idx);
     if at.x == 0u {
         return pair_n2_0[at.y];
@@ -332,7 +336,7 @@ fn load_pair_n2(idx: u32) -> vec4<f64> {
     return pair_n2_2[at.y];
 }
 
-fn store_pair_n2(idx: u32, value: vec4<f64>) {
+fn store_pair_n2(idx: u32, value: SecondPointer) {
     let at = slot_chunk_of(idx);
     if at.x == 0u {
         pair_n2_0[at.y] = value;
@@ -394,7 +398,7 @@ fn load_pair_result(idx: u32) -> PairResult {
 
 fn add_tally(i: u32, channel: u32, value: f64) {
     let at = i * TALLY_STRIDE + channel;
-    tally[at] = tally[at] + value;
+    tally[at] = accumulate(tally[at], value);
 }
 
 fn flag(which: u32, monomer: u32) {

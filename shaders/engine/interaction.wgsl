@@ -1,4 +1,4 @@
-// requires: bindings normal damping rolling sliding twisting wall math
+// requires: bindings positions normal damping rolling sliding twisting wall math
 //
 // One contact's forces, torques, potential and step energy: the twins of pair_interaction,
 // pair_contact_potential, pair_step_energy, wall_interaction, wall_contact_potential and
@@ -74,8 +74,9 @@ fn pair_contact_potential(x1: vec3<f64>, x2: vec3<f64>, n1: vec3<f64>, n2: vec3<
 // Potential plus half the work of the contact's conservative forces over the step just taken
 // (see pair_step_energy in src/state/interaction.rs for why).
 fn pair_step_energy(i: u32, j: u32, n1: vec3<f64>, n2: vec3<f64>, twist: f64) -> f64 {
-    let x1 = position[i].xyz;
-    let x2 = position[j].xyz;
+    let centres = pair_centres(i, j);
+    let x1 = centres.x1;
+    let x2 = centres.x2;
     let v1 = velocity[i].xyz;
     let v2 = velocity[j].xyz;
     let it = pair_interaction(x1, x2, v1, v2, n1, n2, twist);
@@ -115,11 +116,14 @@ fn wall_contact_potential(x: vec3<f64>, wall: Wall, n1: vec3<f64>, anchor: vec3<
 }
 
 fn wall_step_energy(i: u32, wall: Wall, n1: vec3<f64>, anchor: vec3<f64>, twist: f64) -> f64 {
-    let x = position[i].xyz;
+    // In the wall's frame (engine/positions.wgsl): the box's in the exact precision.
+    let frame = wall_frame(i, wall);
+    let x = frame.x;
+    let p = anchor_into_frame(anchor, wall);
     let v = velocity[i].xyz;
-    let it = wall_interaction(x, v, wall, n1, anchor, twist);
+    let it = wall_interaction(x, v, frame.wall, n1, p, twist);
     let work = vec_dot(it.f - it.fd, v - wall.velocity.xyz) + vec_dot(it.m, angular_velocity[i].xyz);
-    return wall_contact_potential(x, wall, n1, anchor, twist) + 0.5lf * params.dt * work;
+    return wall_contact_potential(x, frame.wall, n1, p, twist) + 0.5lf * params.dt * work;
 }
 
 // Whether a contact needs any inelastic correction (apply_inelastic_limits in

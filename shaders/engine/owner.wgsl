@@ -1,4 +1,4 @@
-// requires: bindings interaction rolling sliding twisting wall math
+// requires: bindings positions interaction rolling sliding twisting wall math
 //
 // The work of one owner that the contacts pass does after the owner's contact events (and that
 // forces_corrections and wall_contacts do alone in tests): the inelastic corrections of its
@@ -10,14 +10,16 @@
 fn apply_inelastic_limits(i: u32) {
     let k = params.pair;
     let r = params.radius;
-    let x1 = position[i].xyz;
     for (var slot = 0u; slot < pair_count[i]; slot++) {
         let idx = i * params.pair_slots + slot;
         let j = pair_partner[idx];
-        let x2 = position[j].xyz;
+        let centres = pair_centres(i, j);
+        let x1 = centres.x1;
+        let x2 = centres.x2;
         let stored_n1 = load_pair_n1(idx);
         var n1 = stored_n1.n;
-        var n2 = load_pair_n2(idx).xyz;
+        let stored_n2 = load_pair_n2(idx);
+        var n2 = stored_n2.n;
         var twist = stored_n1.twist;
 
         let nc = vec_normalize(x1 - x2);
@@ -55,8 +57,8 @@ fn apply_inelastic_limits(i: u32) {
             twist = twisted.twist;
             add_tally(i, TALLY_TWISTING, before - pair_step_energy(i, j, n1, n2, twist));
         }
-        store_pair_n1(idx, ContactPointer(n1, twist));
-        store_pair_n2(idx, vec4<f64>(n2, 0.0lf));
+        store_pair_n1(idx, replaced_contact_pointer(stored_n1, n1, twist));
+        store_pair_n2(idx, replaced_second_pointer(stored_n2, n2));
     }
 }
 
@@ -66,16 +68,20 @@ fn apply_inelastic_limits(i: u32) {
 // and lavapipe would run this for every monomer of a SIMD group in which one does; hence a list.
 fn wall_contacts_of(i: u32) {
     let r = params.radius;
-    let x = position[i].xyz;
     let v = velocity[i].xyz;
     for (var slot = 0u; slot < wall_count[i]; slot++) {
         let idx = i * params.wall_slots + slot;
         let wall = wall_table[wall_id[idx]];
         let k = wall.k;
         let normal = wall.normal.xyz;
-        var n1 = wall_n1[idx].n;
-        var twist = wall_n1[idx].twist;
-        var anchor = wall_anchor[idx].xyz;
+        let stored = wall_n1[idx];
+        var n1 = stored.n;
+        var twist = stored.twist;
+        // Positions and anchors in the wall's frame (engine/positions.wgsl): the box's in the
+        // exact precision.
+        let frame = wall_frame(i, wall);
+        let x = frame.x;
+        var anchor = anchor_into_frame(wall_anchor[idx].xyz, wall);
 
         // apply_wall_inelastic_limits: everything goes to the walls channel. The contact as it
         // was, for its step energy should a correction change it.
@@ -101,13 +107,14 @@ fn wall_contacts_of(i: u32) {
             changed = true;
         }
         if changed {
-            let before = wall_step_energy(i, wall, n1_before, anchor_before, twist_before);
-            add_tally(i, TALLY_WALLS, before - wall_step_energy(i, wall, n1, anchor, twist));
-            wall_n1[idx] = ContactPointer(n1, twist);
-            wall_anchor[idx] = vec4<f64>(anchor, 0.0lf);
+            let kept = anchor_out_of_frame(anchor, wall);
+            let before = wall_step_energy(i, wall, n1_before, anchor_out_of_frame(anchor_before, wall), twist_before);
+            add_tally(i, TALLY_WALLS, before - wall_step_energy(i, wall, n1, kept, twist));
+            wall_n1[idx] = replaced_contact_pointer(stored, n1, twist);
+            wall_anchor[idx] = vec4<f64>(kept, 0.0lf);
         }
 
-        let it = wall_interaction(x, v, wall, n1, anchor, twist);
+        let it = wall_interaction(x, v, frame.wall, n1, anchor, twist);
         wall_force[idx] = vec4<f64>(it.f, 0.0lf);
         wall_damping[idx] = vec4<f64>(it.fd, 0.0lf);
         wall_torque[idx] = vec4<f64>(it.m, 0.0lf);

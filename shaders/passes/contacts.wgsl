@@ -1,4 +1,4 @@
-// requires: bindings cells owner interaction wall rolling sliding twisting math
+// requires: bindings positions cells owner interaction wall rolling sliding twisting math
 //
 // Contact maintenance pass, twin of contacts in src/backend/cpu/contacts.rs: breaks stretched
 // contacts (δ < −δ_c) and forms new ones (δ ≥ 0), keeping the history of every contact that
@@ -38,8 +38,6 @@ fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
     if i >= params.n {
         return;
     }
-    let r = params.radius;
-    let x = position[i].xyz;
     let count = pair_count[i];
     // The pair contacts' tests ran per contact, in integrate_pairs (contacts_pair_tests after
     // an upload): a loop over each owner's slots here kept most SIMD lanes idle.
@@ -50,7 +48,7 @@ fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
     var touching_wall_contacts = 0u;
     for (var slot = 0u; slot < wcount; slot++) {
         let w = wall_id[i * params.wall_slots + slot];
-        let delta = wall_overlap(x, wall_table[w].point.xyz, wall_table[w].normal.xyz, r);
+        let delta = wall_overlap_at(i, wall_table[w].point.xyz, wall_table[w].point_lo.xyz, wall_table[w].normal.xyz);
         event = event || delta < -wall_table[w].k.delta_c;
         touching_wall_contacts += select(0u, 1u, !(delta < 0.0lf));
     }
@@ -58,7 +56,7 @@ fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
     var forming = 0u;
     for (var k = 0u; k < neighbour_count[i]; k++) {
         let j = neighbour_list[list + k];
-        let touching = !(2.0lf * r - vec_length(x - position[j].xyz) < 0.0lf);
+        let touching = !(pair_overlap_of(i, j) < 0.0lf);
         forming += select(0u, 1u, touching);
     }
     // A loop of constant length, which the compiler unrolls: each wall is then read at a
@@ -66,7 +64,7 @@ fn contacts_scan(@builtin(global_invocation_id) id: vec3<u32>) {
     // counter is read lane by lane).
     var touching_walls = 0u;
     for (var w = 0u; w < MAX_WALLS; w++) {
-        let touching = !(wall_overlap(x, walls[w].point.xyz, walls[w].normal.xyz, r) < 0.0lf);
+        let touching = !(wall_overlap_at(i, walls[w].point.xyz, walls[w].point_lo.xyz, walls[w].normal.xyz) < 0.0lf);
         touching_walls += select(0u, 1u, touching && w < params.wall_count);
     }
     let forms_wall_contact = touching_walls > touching_wall_contacts;
@@ -125,7 +123,6 @@ fn contacts(
 // Breaks and forms the contacts of owner `i`.
 fn contact_events(i: u32) {
     let r = params.radius;
-    let x = position[i].xyz;
     let base = i * params.pair_slots;
 
     // Break.
@@ -134,10 +131,10 @@ fn contact_events(i: u32) {
     while slot < count {
         let idx = base + slot;
         let j = pair_partner[idx];
-        let delta = 2.0lf * r - vec_length(x - position[j].xyz);
+        let delta = pair_overlap_of(i, j);
         if delta < -params.pair.delta_c {
             let a = load_pair_n1(idx);
-            add_tally(i, TALLY_BREAKING, pair_step_energy(i, j, a.n, load_pair_n2(idx).xyz, a.twist));
+            add_tally(i, TALLY_BREAKING, pair_step_energy(i, j, a.n, load_pair_n2(idx).n, a.twist));
             // No longer a partner: a candidate again (it may touch again before a rebuild).
             insert_candidate(i, j);
             let last = base + count - 1u;
@@ -155,7 +152,7 @@ fn contact_events(i: u32) {
     while slot < wcount {
         let idx = wall_base + slot;
         let w = wall_table[wall_id[idx]];
-        let delta = wall_overlap(x, w.point.xyz, w.normal.xyz, r);
+        let delta = wall_overlap_at(i, w.point.xyz, w.point_lo.xyz, w.normal.xyz);
         if delta < -w.k.delta_c {
             let a = wall_n1[idx];
             add_tally(i, TALLY_WALLS, wall_step_energy(i, w, a.n, wall_anchor[idx].xyz, a.twist));
@@ -176,7 +173,8 @@ fn contact_events(i: u32) {
     var kept = 0u;
     for (var k = 0u; k < candidates; k++) {
         let j = neighbour_list[list + k];
-        let d = x - position[j].xyz;
+        let centres = pair_centres(i, j);
+        let d = centres.x1 - centres.x2;
         let distance = vec_length(d);
         let full = count >= params.pair_slots;
         if 2.0lf * r - distance < 0.0lf || has_pair(i, count, j) || full {
@@ -192,8 +190,8 @@ fn contact_events(i: u32) {
         let n2 = nc;
         add_tally(i, TALLY_FORMING, -pair_step_energy(i, j, n1, n2, 0.0lf));
         let idx = base + count;
-        store_pair_n1(idx, ContactPointer(n1, 0.0lf));
-        store_pair_n2(idx, vec4<f64>(n2, 0.0lf));
+        store_pair_n1(idx, contact_pointer(n1, 0.0lf));
+        store_pair_n2(idx, second_pointer(n2));
         pair_partner[idx] = j;
         count += 1u;
     }
@@ -202,9 +200,9 @@ fn contact_events(i: u32) {
 
     // Form wall contacts, in wall order.
     for (var w_idx = 0u; w_idx < params.wall_count; w_idx++) {
-        // Only the plane for the test: the whole Wall (192 bytes) only where a contact forms.
+        // Only the plane for the test: the whole Wall (224 bytes) only where a contact forms.
         let normal = walls[w_idx].normal.xyz;
-        if wall_overlap(x, walls[w_idx].point.xyz, normal, r) < 0.0lf
+        if wall_overlap_at(i, walls[w_idx].point.xyz, walls[w_idx].point_lo.xyz, normal) < 0.0lf
             || has_wall(i, wcount, w_idx) {
             continue;
         }
@@ -214,10 +212,10 @@ fn contact_events(i: u32) {
             break;
         }
         let n1 = -normal;
-        let anchor = x - normal * r;
+        let anchor = anchor_out_of_frame(wall_frame(i, w).x - normal * r, w);
         add_tally(i, TALLY_WALLS, -wall_step_energy(i, w, n1, anchor, 0.0lf));
         let idx = wall_base + wcount;
-        wall_n1[idx] = ContactPointer(n1, 0.0lf);
+        wall_n1[idx] = contact_pointer(n1, 0.0lf);
         wall_anchor[idx] = vec4<f64>(anchor, 0.0lf);
         wall_id[idx] = w_idx;
         wcount += 1u;
@@ -234,7 +232,7 @@ fn contacts_clear_tally(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     for (var c = 0u; c < TALLY_STRIDE; c++) {
-        tally[i * TALLY_STRIDE + c] = 0.0lf;
+        tally[i * TALLY_STRIDE + c] = tally_entry(0.0lf);
     }
 }
 
@@ -252,9 +250,10 @@ fn contacts_pair_tests(
         if pair_slot_in_use(idx) {
             let i = idx / params.pair_slots;
             let stored_n1 = load_pair_n1(idx);
+            let centres = pair_centres(i, pair_partner[idx]);
             test_pair_contact(
-                i, position[i].xyz, position[pair_partner[idx]].xyz,
-                stored_n1.n, load_pair_n2(idx).xyz, stored_n1.twist,
+                i, centres.x1, centres.x2,
+                stored_n1.n, load_pair_n2(idx).n, stored_n1.twist,
             );
         }
     }

@@ -1,4 +1,4 @@
-// requires: bindings owner interaction rolling sliding twisting math
+// requires: bindings positions owner interaction rolling sliding twisting math
 //
 // Monomer–monomer force pass, twin of forces in src/backend/cpu/forces.rs: inelastic corrections
 // first (booked per channel as the drop of the contact's step energy), then JKR, damping,
@@ -62,9 +62,10 @@ fn contact_forces(idx: u32) {
     let i = idx / params.pair_slots;
     let j = pair_partner[idx];
     let stored_n1 = load_pair_n1(idx);
-    let n2 = load_pair_n2(idx).xyz;
+    let n2 = load_pair_n2(idx).n;
+    let centres = pair_centres(i, j);
     let it = pair_interaction(
-        position[i].xyz, position[j].xyz, velocity[i].xyz, velocity[j].xyz,
+        centres.x1, centres.x2, velocity[i].xyz, velocity[j].xyz,
         stored_n1.n, n2, stored_n1.twist,
     );
     store_pair_result(idx, PairResult(it.f, it.fd, it.m1, it.m2));

@@ -1,4 +1,4 @@
-// requires: bindings wall_sums interaction pointer twisting math
+// requires: bindings positions wall_sums interaction pointer twisting math
 //
 // Leap-frog pass, twin of src/backend/cpu/integrate.rs: kick v(n−½) → v(n+½) with the forces at n, turn
 // contact pointers and advance twist integrals with the mid-step angular velocities, drift
@@ -54,7 +54,7 @@ fn kick(i: u32) {
         let a = wall_n1[idx];
         let normal = wall_table[wall_id[idx]].normal.xyz;
         let twist = a.twist + twist_increment(w, normal, dt);
-        wall_n1[idx] = ContactPointer(rotate_pointer(a.n, turn), twist);
+        wall_n1[idx] = turned_contact_pointer(a, turn, twist);
     }
 }
 
@@ -89,26 +89,26 @@ fn turn_pair_pointers(idx: u32) {
     let wj = angular_velocity[j].xyz;
     let a = load_pair_n1(idx);
     let b = load_pair_n2(idx);
-    let xi = position[i].xyz;
-    let xj = position[j].xyz;
+    let centres = pair_centres(i, j);
     let vi = velocity[i].xyz;
     let vj = velocity[j].xyz;
     // Contact normal at mid-step, x(n+½) = x(n) + v(n+½) dt/2.
-    let nc_mid = vec_normalize((xi - xj) + (vi - vj) * (0.5lf * dt));
+    let nc_mid = vec_normalize((centres.x1 - centres.x2) + (vi - vj) * (0.5lf * dt));
     let twist = a.twist + twist_increment(wi - wj, nc_mid, dt);
-    let n1 = rotate_pointer(a.n, wi * dt);
-    let n2 = rotate_pointer(b.xyz, wj * dt);
-    store_pair_n1(idx, ContactPointer(n1, twist));
-    store_pair_n2(idx, vec4<f64>(n2, 0.0lf));
-    test_pair_contact(i, xi + vi * params.dt, xj + vj * params.dt, n1, n2, twist);
+    let p1 = turned_contact_pointer(a, wi * dt, twist);
+    let p2 = turned_second_pointer(b, wj * dt);
+    let n1 = p1.n;
+    let n2 = p2.n;
+    store_pair_n1(idx, p1);
+    store_pair_n2(idx, p2);
+    test_pair_contact(i, centres.x1 + vi * params.dt, centres.x2 + vj * params.dt, n1, n2, twist);
 }
 
 @compute @workgroup_size(MONOMER_GROUP)
 fn integrate_drift(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     if i < params.wall_count {
-        let w = moving_walls[i];
-        moving_walls[i].point = vec4<f64>(w.point.xyz + w.velocity.xyz * params.dt, 0.0lf);
+        drift_wall(i);
     }
     // Empty the work lists for this step's scan (a dispatch of its own would cost as much as
     // a small system's pass on lavapipe).
@@ -121,8 +121,7 @@ fn integrate_drift(@builtin(global_invocation_id) id: vec3<u32>) {
     if i >= params.n {
         return;
     }
-    let x = position[i].xyz + velocity[i].xyz * params.dt;
-    position[i] = vec4<f64>(x, 0.0lf);
+    let x = drift_centre(i);
     // Not finite: |x| ≤ max is false for NaN and for ±∞.
     let v = velocity[i].xyz;
     let limit = 1.0e300lf;
@@ -163,6 +162,6 @@ fn integrate_clear_work(@builtin(global_invocation_id) id: vec3<u32>) {
     if i >= params.n {
         return;
     }
-    tally[i * TALLY_STRIDE + TALLY_DAMPING] = 0.0lf;
-    tally[i * TALLY_STRIDE + TALLY_WALL_WORK] = 0.0lf;
+    tally[i * TALLY_STRIDE + TALLY_DAMPING] = tally_entry(0.0lf);
+    tally[i * TALLY_STRIDE + TALLY_WALL_WORK] = tally_entry(0.0lf);
 }

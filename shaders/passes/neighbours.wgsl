@@ -1,4 +1,4 @@
-// requires: bindings cells math
+// requires: bindings positions cells math
 //
 // Neighbour passes, twin of src/backend/cpu/neighbours.rs: candidate lists (Verlet lists) of the pairs
 // within 2r + skin that are not in contact (the CPU's lists keep those too), rebuilt only when some monomer has moved more than half the skin since the
@@ -23,7 +23,7 @@ fn neighbours(@builtin(global_invocation_id) id: vec3<u32>) {
     if i >= params.n || !rebuild_due() {
         return;
     }
-    let b = bucket_of(cell_of(position[i].xyz));
+    let b = bucket_of(cell_of(centre(i)));
     let at = atomicAdd(&bucket_count[b], 1u);
     if at < params.bucket_capacity {
         bucket_items[b * params.bucket_capacity + at] = i;
@@ -38,7 +38,7 @@ fn neighbours_list(@builtin(global_invocation_id) id: vec3<u32>) {
     if i >= params.n || !rebuild_due() {
         return;
     }
-    let x = position[i].xyz;
+    let x = centre(i);
     let c = cell_of(x);
     let base = i * NEIGHBOUR_CAPACITY;
     var count = 0u;
@@ -49,7 +49,8 @@ fn neighbours_list(@builtin(global_invocation_id) id: vec3<u32>) {
                 let in_bucket = min(atomicLoad(&bucket_count[b]), params.bucket_capacity);
                 for (var k = 0u; k < in_bucket; k++) {
                     let j = bucket_items[b * params.bucket_capacity + k];
-                    if j <= i || vec_length(x - position[j].xyz) > params.cell
+                    let centres = pair_centres(i, j);
+                    if j <= i || vec_length(centres.x1 - centres.x2) > params.cell
                         || has_pair(i, pair_count[i], j) {
                         continue;
                     }

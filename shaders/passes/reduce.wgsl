@@ -30,7 +30,7 @@ fn reduce_diagnostics(@builtin(local_invocation_index) t: u32) {
     var wall_contacts = 0u;
     for (var i = t; i < params.n; i += DIAG_THREADS) {
         for (var c = 0u; c < TALLY_STRIDE; c++) {
-            sums[c] = sums[c] + tally[i * TALLY_STRIDE + c];
+            sums[c] = sums[c] + tally_value(tally[i * TALLY_STRIDE + c]);
         }
         pairs += pair_count[i];
         wall_contacts += wall_count[i];

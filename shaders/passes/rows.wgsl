@@ -1,4 +1,4 @@
-// requires: bindings interaction normal wall math
+// requires: bindings positions interaction normal wall math
 //
 // The row measures, twins of the functions of the same names in src/state/rows.rs: what a
 // measurement row reads of the state, reduced on the device so that the host reads a few
@@ -32,21 +32,25 @@ fn monomer_energy(i: u32) -> array<f64, 4> {
     }
     let k = params.pair;
     let r = params.radius;
-    let x = position[i].xyz;
     for (var slot = 0u; slot < pair_count[i]; slot++) {
         let idx = i * params.pair_slots + slot;
-        let y = position[pair_partner[idx]].xyz;
+        let centres = pair_centres(i, pair_partner[idx]);
+        let x = centres.x1;
+        let y = centres.x2;
         let n1 = load_pair_n1(idx);
-        let total = pair_contact_potential(x, y, n1.n, load_pair_n2(idx).xyz, n1.twist);
+        let total = pair_contact_potential(x, y, n1.n, load_pair_n2(idx).n, n1.twist);
         let normal = jkr_potential_at_overlap((2.0lf * r - vec_length(x - y)) / k.delta0, k.f_c, k.delta0);
         e[2] = e[2] + normal;
         e[3] = e[3] + (total - normal);
     }
     for (var slot = 0u; slot < wall_count[i]; slot++) {
         let idx = i * params.wall_slots + slot;
-        let wall = wall_table[wall_id[idx]];
+        let frame = wall_frame(i, wall_table[wall_id[idx]]);
+        let wall = frame.wall;
+        let x = frame.x;
         let n1 = wall_n1[idx];
-        let total = wall_contact_potential(x, wall, n1.n, wall_anchor[idx].xyz, n1.twist);
+        let anchor = anchor_into_frame(wall_anchor[idx].xyz, wall_table[wall_id[idx]]);
+        let total = wall_contact_potential(x, wall, n1.n, anchor, n1.twist);
         let delta = wall_overlap(x, wall.point.xyz, wall.normal.xyz, r);
         let normal = jkr_potential_at_overlap(delta / wall.k.delta0, wall.k.f_c, wall.k.delta0);
         e[2] = e[2] + normal;
@@ -66,12 +70,12 @@ fn row_sums(
     let i = first + t;
     if i < params.n {
         let e = monomer_energy(i);
-        let p = position[i];
+        let p = centre(i);
         row_part[t] = array<f64, ROW_SUMS>(e[0], e[1], e[2], e[3], p.x, p.y, p.x, p.y);
     }
     workgroupBarrier();
     if t == 0u {
-        let p = position[first];
+        let p = centre(first);
         var sums = array<f64, ROW_SUMS>(0.0lf, 0.0lf, 0.0lf, 0.0lf, p.x, p.y, p.x, p.y);
         let count = min(REDUCE_BLOCK, params.n - first);
         for (var k = 0u; k < count; k++) {
@@ -174,7 +178,7 @@ fn row_profile(
         let end = min((b + 1u) * REDUCE_BLOCK, params.n);
         var sum = 0.0lf;
         for (var i = b * REDUCE_BLOCK; i < end; i++) {
-            sum = sum + slab_share(r, sphere, position[i].z, k);
+            sum = sum + slab_share(r, sphere, centre(i).z, k);
         }
         row_profile_data[slabs + g] = sum;
     }
@@ -222,7 +226,7 @@ fn row_raster(@builtin(global_invocation_id) id: vec3<u32>) {
     let nx = row_data[ROW_NX];
     let ny = row_data[ROW_NY];
     let r2 = r * r;
-    let p = position[i].xyz;
+    let p = centre(i);
     let iy0 = u32(max(floor((p.y - r - y0) / h), 0.0lf));
     let iy1 = u32(min(ceil((p.y + r - y0) / h), ny - 1.0lf));
     for (var iy = iy0; iy <= iy1; iy++) {

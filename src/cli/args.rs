@@ -1,7 +1,7 @@
 //! The command line's grammar: subcommands, their arguments and help texts (clap).
 
 use crate::calibrate::measured::Geometry;
-use crate::job::Backend;
+use crate::job::{Backend, PrecisionChoice};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 
@@ -324,4 +324,9 @@ pub(super) struct ReportArgs {
     /// bits.
     #[arg(long)]
     pub(super) threads: Option<usize>,
+    /// Arithmetic of the GPU engine: exact (f64, the CPU reference's bits; adapters without f64
+    /// are refused), mixed (f32 with split centres and double-f32 pointers, wall points and
+    /// tallies: runs on every adapter) or auto (exact where the adapter has f64, else mixed).
+    #[arg(long, default_value = "auto")]
+    pub(super) precision: PrecisionChoice,
 }

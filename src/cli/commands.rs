@@ -90,6 +90,7 @@ fn drive(
         progress: &mut progress,
         interrupt: Some(&flag),
         backend,
+        precision: args.precision,
         notice: &mut notice,
     };
     let result = job(&mut options);

@@ -5,7 +5,7 @@
 use super::{JobOptions, RunError};
 use crate::backend::cpu::CpuEngine;
 use crate::backend::gpu::buffers::Sizes;
-use crate::backend::gpu::context::{GpuContext, Requirements};
+use crate::backend::gpu::context::{GpuContext, Requirements, ShaderF64};
 use crate::backend::gpu::engine::GpuError;
 use crate::config::{Config, ExperimentKind};
 use crate::engine::EngineError;
@@ -41,6 +41,47 @@ impl std::str::FromStr for Backend {
     }
 }
 
+/// The arithmetic of a GPU run (`--precision`; the CPU reference is always f64).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PrecisionChoice {
+    /// f64 throughout: the CPU reference's bits; adapters without f64 are refused.
+    Exact,
+    /// f32 arithmetic with split centres and double-f32 pointers, wall points and tallies
+    /// (DESIGN.md, "Precision"), even where the adapter has f64.
+    Mixed,
+    /// Exact where the adapter has f64, else mixed.
+    Auto,
+}
+
+impl std::str::FromStr for PrecisionChoice {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "exact" => Ok(PrecisionChoice::Exact),
+            "mixed" => Ok(PrecisionChoice::Mixed),
+            "auto" => Ok(PrecisionChoice::Auto),
+            other => Err(format!(
+                "precision `{other}`: expected exact, mixed or auto"
+            )),
+        }
+    }
+}
+
+impl PrecisionChoice {
+    /// The device requirements that give this precision (`GpuContext::precision`).
+    pub fn requirements(self) -> Requirements {
+        let shader_f64 = match self {
+            PrecisionChoice::Exact => ShaderF64::Required,
+            PrecisionChoice::Mixed => ShaderF64::Refused,
+            PrecisionChoice::Auto => ShaderF64::Optional,
+        };
+        Requirements {
+            shader_f64,
+            ..Requirements::default()
+        }
+    }
+}
+
 /// The f64 CPU reference engine, built from an initial state as every engine is (the `build`
 /// argument of the experiments). Collisions and calibrations run on it: it is deterministic on
 /// every machine, and a GPU would not speed up two monomers or a few hundred.
@@ -57,13 +98,13 @@ pub fn reference_engine(
 
 /// The GPU context a job runs on (`None`: the CPU reference), announced through the notice.
 pub(super) fn choose_backend(options: &mut JobOptions) -> Result<Option<GpuContext>, RunError> {
+    let requirements = options.precision.requirements();
     let context = match options.backend {
         Backend::Cpu => None,
-        Backend::Gpu => Some(
-            GpuContext::new(&Requirements::default())
-                .map_err(|e| EngineError::from(GpuError::from(e)))?,
-        ),
-        Backend::Auto => match GpuContext::new(&Requirements::default()) {
+        Backend::Gpu => {
+            Some(GpuContext::new(&requirements).map_err(|e| EngineError::from(GpuError::from(e)))?)
+        }
+        Backend::Auto => match GpuContext::new(&requirements) {
             Ok(ctx) if ctx.summary().device_type == wgpu::DeviceType::Cpu => {
                 (options.notice)(&format!(
                     "backend: cpu (f64 reference); the only adapter, {}, is a software \
@@ -78,9 +119,10 @@ pub(super) fn choose_backend(options: &mut JobOptions) -> Result<Option<GpuConte
     match &context {
         None => (options.notice)("backend: cpu (f64 reference)"),
         Some(ctx) => (options.notice)(&format!(
-            "backend: gpu ({}, {:?} float mode)",
+            "backend: gpu ({}, {:?} float mode, {} precision)",
             ctx.summary().name,
-            ctx.float_mode
+            ctx.float_mode,
+            ctx.precision().name()
         )),
     }
     Ok(context)

@@ -12,7 +12,7 @@ mod checkpoint;
 mod collision;
 pub(crate) mod figure;
 
-pub use backend::{gpu_report, reference_engine, Backend, PrivateRuntimeDir};
+pub use backend::{gpu_report, reference_engine, Backend, PrecisionChoice, PrivateRuntimeDir};
 pub use checkpoint::{load_checkpoint, LoadedCheckpoint};
 pub use figure::{curve_plot, BLUM_SCHRAEPLER_2004_UNI, GUETTLER_2009_OMNI};
 
@@ -65,6 +65,8 @@ pub struct JobOptions<'a> {
     /// Set by a signal handler: checkpoint at the next row and stop.
     pub interrupt: Option<&'a AtomicBool>,
     pub backend: Backend,
+    /// The arithmetic of a GPU engine (ignored on the CPU).
+    pub precision: PrecisionChoice,
     /// Receives one line naming the backend chosen, and one per checkpoint (size, seconds).
     pub notice: &'a mut dyn FnMut(&str),
 }

@@ -10,6 +10,8 @@ use super::layout::{
     MAX_WALLS, NEIGHBOUR_CAPACITY, REDUCE_BLOCK, ROW_PARTIALS, ROW_SUMS, SLOT_CHUNKS, TALLY_STRIDE,
     WORK_LISTS,
 };
+use super::shader::Precision;
+use super::transcode::Transcoder;
 use std::fmt;
 
 /// Bytes of one vec4<f64>.
@@ -42,8 +44,9 @@ pub const PAIR_N2: [Binding; SLOT_CHUNKS] = [
 ];
 
 /// The most bindings one pass uses (each pass binds only what its entry point reads or
-/// writes; `kernels::tests` derives this from the shaders with naga).
-pub const MAX_BINDINGS_PER_PASS: u32 = 27;
+/// writes; `kernels::tests` derives this from the shaders with naga): `contacts` in the mixed
+/// precision, whose split centres take two bindings more than the exact precision's 27.
+pub const MAX_BINDINGS_PER_PASS: u32 = 29;
 
 // lavapipe binds 32 storage buffers per stage, the least of the Vulkan adapters with f64.
 const _: () = assert!(MAX_BINDINGS_PER_PASS <= 32);
@@ -62,6 +65,9 @@ pub struct Sizes {
     /// Per-slot arrays over three bindings even where they fit one (what N > 349 525 needs
     /// with 12 slots); tests use it to hold that layout to the other.
     pub split_slots: bool,
+    /// Centres held split (voxel, offset, low part: the mixed precision), which the
+    /// `position_voxel` and `position_lo` bindings hold; else those are empty.
+    pub split_positions: bool,
 }
 
 /// Ids one bucket of the cell table holds. Cells have edge 2.2r, so a cell holds at most ~6
@@ -82,6 +88,7 @@ impl Sizes {
             table: (2 * monomers.max(1)).next_power_of_two(),
             bucket_capacity: DEFAULT_BUCKET_CAPACITY,
             split_slots: false,
+            split_positions: false,
         }
     }
 
@@ -159,6 +166,9 @@ impl Sizes {
             // The profile's and the raster's scratch start empty and grow on demand
             // (engine::rows): their size depends on the walls and on the sample's extent.
             RowProfileData | RowBits => 0,
+            PositionVoxel if self.split_positions => n * 16,
+            PositionLo if self.split_positions => n * VEC4,
+            PositionVoxel | PositionLo => 0,
         }
     }
 
@@ -294,8 +304,13 @@ pub const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
     .union(wgpu::BufferUsages::COPY_DST);
 
 impl Buffers {
-    /// Zero-filled buffers (at least 64 bytes each: no binding may be empty).
-    pub fn new(device: &wgpu::Device, sizes: Sizes) -> Self {
+    /// Zero-filled buffers (at least 64 bytes each: no binding may be empty), in the device
+    /// layout of `precision` (`transcode`: the mixed one holds f32 where the exact holds f64).
+    pub fn new(device: &wgpu::Device, sizes: Sizes, precision: Precision) -> Self {
+        let device_bytes = |b: Binding| match precision {
+            Precision::Exact => sizes.bytes(b),
+            Precision::Mixed => Transcoder::engine().element(b).mixed_bytes(sizes.bytes(b)),
+        };
         let mut bindings: Vec<wgpu::Buffer> = Vec::with_capacity(Binding::COUNT);
         for binding in Binding::ALL {
             if let Some(target) = binding.shares_buffer_of() {
@@ -304,7 +319,7 @@ impl Buffers {
             }
             bindings.push(device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(binding.name()),
-                size: sizes.bytes(binding).max(64).next_multiple_of(8),
+                size: device_bytes(binding).max(64).next_multiple_of(8),
                 usage: match binding {
                     // Indirect dispatch arguments, written on the device.
                     Binding::WorkArgs => STORAGE | wgpu::BufferUsages::INDIRECT,

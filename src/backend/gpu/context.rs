@@ -9,7 +9,7 @@
 //! 128 MiB per binding) are WebGPU's lowest common denominator, and a Vulkan adapter usually
 //! has more.
 
-use super::shader::FloatMode;
+use super::shader::{FloatMode, Precision};
 use std::fmt;
 use std::sync::{Arc, Mutex};
 
@@ -296,6 +296,16 @@ impl GpuContext {
             shader_f64,
             failure,
         })
+    }
+
+    /// The arithmetic an engine on this device runs: f64 where the device was made with
+    /// `SHADER_F64`, else the mixed precision (`ShaderF64` decides which, `--precision`).
+    pub fn precision(&self) -> Precision {
+        if self.shader_f64 {
+            Precision::Exact
+        } else {
+            Precision::Mixed
+        }
     }
 
     pub fn summary(&self) -> AdapterSummary {

@@ -8,7 +8,7 @@ use super::buffers::{Buffers, MAX_BINDINGS_PER_PASS};
 use super::context::GpuContext;
 use super::layout::{ARGS_REBUILD, WORK_CONTACTS, WORK_PAIRS};
 use super::quirks;
-use super::shader::{assemble_pass, Assembled, FloatMode, ShaderError};
+use super::shader::{assemble_pass_at, Assembled, FloatMode, ShaderError};
 use super::spirv::entry_bindings;
 
 pub use super::interface::Kernel;
@@ -80,7 +80,7 @@ impl Kernels {
         for kernel in Kernel::ALL {
             let (pass, entry) = (kernel.pass(), kernel.entry());
             if !passes.iter().any(|(p, _)| *p == pass) {
-                let mut assembled = assemble_pass(pass)?;
+                let mut assembled = assemble_pass_at(pass, ctx.precision())?;
                 if one_slot_chunk {
                     assembled = assembled.with_one_slot_chunk();
                 }
@@ -174,14 +174,17 @@ impl Kernels {
 mod tests {
     use super::*;
     use crate::backend::gpu::interface::Binding;
+    use crate::backend::gpu::shader::{assemble_pass, Precision};
 
-    /// The bindings of every entry point, from the shaders (no GPU needed).
+    /// The bindings of every entry point at both precisions, from the shaders (no GPU needed).
     fn per_entry_point() -> Vec<(&'static str, Vec<u32>)> {
-        Kernel::ALL
+        Precision::ALL
             .iter()
-            .map(|k| {
-                let assembled = assemble_pass(k.pass()).unwrap();
-                (k.entry(), used_bindings(&assembled, k.entry()).unwrap())
+            .flat_map(|&p| {
+                Kernel::ALL.iter().map(move |k| {
+                    let assembled = assemble_pass_at(k.pass(), p).unwrap();
+                    (k.entry(), used_bindings(&assembled, k.entry()).unwrap())
+                })
             })
             .collect()
     }

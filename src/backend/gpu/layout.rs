@@ -118,9 +118,11 @@ pub struct GpuWall {
     pub normal: [f64; 4],
     pub velocity: [f64; 4],
     pub k: GpuConstants,
+    /// The mixed precision's low part of `point` (zero in the exact precision).
+    pub point_lo: [f64; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<GpuWall>() == 192);
+const _: () = assert!(std::mem::size_of::<GpuWall>() == 224);
 
 /// The WGSL `MonomerAux` struct of shaders/engine/bindings.wgsl: a monomer's mobility scales
 /// and the power of its wall contacts at the current step.
@@ -247,7 +249,7 @@ mod tests {
         assert_eq!(pointer, (32, vec![("n".into(), 0), ("twist".into(), 24)]));
         let w = wgsl_struct(&module, "Wall");
         assert_eq!(w.0 as usize, std::mem::size_of::<GpuWall>());
-        assert_eq!(w.1, offsets!(GpuWall, point, normal, velocity, k));
+        assert_eq!(w.1, offsets!(GpuWall, point, normal, velocity, k, point_lo));
     }
 
     #[test]

@@ -14,6 +14,7 @@ pub mod quirks;
 mod runtime_dir;
 pub mod shader;
 pub mod spirv;
+pub mod transcode;
 
 #[cfg(test)]
 mod twins;

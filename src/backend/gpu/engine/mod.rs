@@ -14,6 +14,7 @@ mod profile;
 mod readback;
 mod rows;
 mod script;
+mod transfer;
 mod upload;
 
 pub use error::GpuError;
@@ -22,6 +23,7 @@ use super::buffers::{Buffers, Sizes};
 use super::context::GpuContext;
 use super::kernels::{Kernel, Kernels};
 use super::layout::{self, GpuConstants, GpuDamping, GpuParams};
+use super::shader::Precision;
 use crate::engine::{Engine, EngineError, SKIN_RADII};
 use crate::model::ContactLaw;
 use crate::state::rows::{RowMeasures, RowRequest};
@@ -61,6 +63,8 @@ pub struct GpuEngine {
     /// device (cheaper than reading them back).
     pub walls: Vec<Wall>,
     pub sizes: Sizes,
+    /// The arithmetic the kernels were compiled for: the context's ([`GpuContext::precision`]).
+    pub precision: Precision,
     /// Most workgroups of a pass over a work list: the device's limit per dimension.
     work_groups_max: u32,
     kernels: Kernels,
@@ -158,8 +162,10 @@ impl GpuEngine {
         walls: Vec<Wall>,
         split_slots: bool,
     ) -> Result<Self, GpuError> {
+        let precision = ctx.precision();
         let sizes = Sizes {
             split_slots,
+            split_positions: precision == Precision::Mixed,
             ..Sizes::new(
                 monomers.len(),
                 walls.len(),
@@ -170,7 +176,7 @@ impl GpuEngine {
         sizes.check(&ctx.device.limits())?;
         let work_groups_max = ctx.device.limits().max_compute_workgroups_per_dimension;
         let kernels = Kernels::new(&ctx, sizes.one_slot_chunk())?;
-        let buffers = Buffers::new(&ctx.device, sizes);
+        let buffers = Buffers::new(&ctx.device, sizes, precision);
         let bind_groups = kernels.bind_groups(&ctx.device, &buffers);
         let row_readback = rows::row_readback_buffer(&ctx.device, 0);
         let mut engine = GpuEngine {
@@ -180,6 +186,7 @@ impl GpuEngine {
             walls,
             work_groups_max,
             sizes,
+            precision,
             kernels,
             buffers,
             bind_groups,

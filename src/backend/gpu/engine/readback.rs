@@ -3,29 +3,26 @@
 //! request.
 
 use super::{Diagnostics, GpuEngine, GpuError};
-use crate::backend::gpu::buffers::Buffers;
 use crate::backend::gpu::buffers::{PAIR_N1, PAIR_N2};
 use crate::backend::gpu::context::GpuContext;
 use crate::backend::gpu::interface::{Binding, Kernel};
 use crate::backend::gpu::layout::SLOT_CHUNKS;
 use crate::backend::gpu::layout::{self, GpuMonomerAux, GpuWall};
+use crate::backend::gpu::shader::Precision;
 use crate::engine::EngineError;
+use crate::mixed::split::SplitPosition;
 use crate::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
-use glam::DVec3;
+use glam::{DVec3, IVec3};
 
 impl GpuEngine {
     pub(super) fn clear_wall_force_sum(&self) {
         let zeros = [0.0f64; layout::DIAG_SIZE - layout::DIAG_WALL_FORCE_SUM];
-        self.ctx.queue.write_buffer(
-            self.buffers.get(Binding::Diag),
+        self.write_at(
+            Binding::Diag,
             (layout::DIAG_WALL_FORCE_SUM * 8) as u64,
-            bytemuck::cast_slice(&zeros),
+            &zeros,
         );
-        self.ctx.queue.write_buffer(
-            self.buffers.get(Binding::Diag),
-            (layout::DIAG_STEPS * 8) as u64,
-            bytemuck::bytes_of(&0.0f64),
-        );
+        self.write_at(Binding::Diag, (layout::DIAG_STEPS * 8) as u64, &[0.0f64]);
     }
 
     /// Reduces the tallies and counts, reads flags and the diagnostics block, and turns a raised
@@ -39,6 +36,7 @@ impl GpuEngine {
         let flag_bytes = (layout::FLAG_COUNT * 4) as u64;
         let flags_at = 0;
         let diag_at = flag_bytes.next_multiple_of(8);
+        let diag_bytes = self.device_len(Binding::Diag, (layout::DIAG_SIZE * 8) as u64);
         encoder.copy_buffer_to_buffer(
             self.buffers.get(Binding::Flags),
             0,
@@ -51,14 +49,15 @@ impl GpuEngine {
             0,
             &self.buffers.small_readback,
             diag_at,
-            (layout::DIAG_SIZE * 8) as u64,
+            diag_bytes,
         );
         // Counted from here on: the totals live on the host.
         encoder.clear_buffer(self.buffers.get(Binding::Tally), 0, None);
         self.ctx.queue.submit([encoder.finish()]);
-        let bytes = self.map_counted(&self.buffers.small_readback, Buffers::small_bytes())?;
+        let bytes = self.map_counted(&self.buffers.small_readback, diag_at + diag_bytes)?;
         let flags: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes[..flag_bytes as usize]);
-        let diag: Vec<f64> = bytemuck::pod_collect_to_vec(&bytes[diag_at as usize..]);
+        let diag = self.decoded(Binding::Diag, bytes[diag_at as usize..].to_vec());
+        let diag: Vec<f64> = bytemuck::pod_collect_to_vec(&diag);
         for (total, since) in self.totals.iter_mut().zip(&diag[..layout::TALLY_STRIDE]) {
             *total += since;
         }
@@ -147,34 +146,6 @@ impl GpuEngine {
         &self.diagnostics.wall_force
     }
 
-    pub(super) fn read<T: bytemuck::Pod>(&self, binding: Binding, count: usize) -> Vec<T> {
-        let bytes = (count * std::mem::size_of::<T>()) as u64;
-        if bytes == 0 {
-            return Vec::new();
-        }
-        let staging = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("state readback"),
-            size: bytes.next_multiple_of(8),
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
-        encoder.copy_buffer_to_buffer(
-            self.buffers.get(binding),
-            0,
-            &staging,
-            0,
-            bytes.next_multiple_of(8),
-        );
-        self.ctx.queue.submit([encoder.finish()]);
-        // Full-state reads come after a successful read of the small block; a device failing
-        // in between is a narrow race, reported here with what failed.
-        let raw = self
-            .map_counted(&staging, bytes.next_multiple_of(8))
-            .unwrap_or_else(|e| panic!("reading `{}` back from the GPU: {e}", binding.name()));
-        bytemuck::pod_collect_to_vec(&raw[..bytes as usize])
-    }
-
     /// [`map_read`], counted in [`GpuEngine::bytes_read_back`].
     pub(super) fn map_counted(
         &self,
@@ -209,7 +180,26 @@ impl GpuEngine {
 
     /// Positions at the current time (a full-array readback).
     pub fn positions(&self) -> Vec<DVec3> {
-        self.read_vec3(Binding::Position, self.sizes.monomers)
+        let n = self.sizes.monomers;
+        match self.precision {
+            Precision::Exact => self.read_vec3(Binding::Position, n),
+            // Split centres (shaders/mixed_engine/positions.wgsl): voxel, offset, low part.
+            Precision::Mixed => {
+                let voxel: Vec<[i32; 4]> = self.read(Binding::PositionVoxel, n);
+                let offset = self.read_vec3(Binding::Position, n);
+                let lo = self.read_vec3(Binding::PositionLo, n);
+                (0..n)
+                    .map(|i| {
+                        SplitPosition {
+                            voxel: IVec3::from_slice(&voxel[i][..3]),
+                            offset: offset[i].as_vec3(),
+                            offset_lo: lo[i].as_vec3(),
+                        }
+                        .to_f64()
+                    })
+                    .collect()
+            }
+        }
     }
 
     /// The monomers as the CPU engine stores them.
@@ -277,9 +267,16 @@ impl GpuEngine {
         self.walls
             .iter()
             .zip(gpu)
-            .map(|(w, g)| Wall {
-                point: DVec3::new(g.point[0], g.point[1], g.point[2]),
-                ..w.clone()
+            .map(|(w, g)| {
+                let point = DVec3::from_slice(&g.point[..3]);
+                Wall {
+                    point: match self.precision {
+                        Precision::Exact => point,
+                        // The double-f32 point (shaders/mixed_engine/positions.wgsl).
+                        Precision::Mixed => point + DVec3::from_slice(&g.point_lo[..3]),
+                    },
+                    ..w.clone()
+                }
             })
             .collect()
     }

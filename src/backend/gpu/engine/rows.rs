@@ -20,7 +20,9 @@ impl GpuEngine {
         let slabs = request.slabs.filter(|s| s.count > 0 && n > 0);
         let count = slabs.map_or(0, |s| s.count);
         // Solid volume per slab, then per (slab, block).
-        self.ensure_scratch(Binding::RowProfileData, (count * (blocks + 1) * 8) as u64);
+        let profile_bytes =
+            self.device_len(Binding::RowProfileData, (count * (blocks + 1) * 8) as u64);
+        self.ensure_scratch(Binding::RowProfileData, profile_bytes);
         let mut header = [0.0f64; layout::ROW_NY + 1];
         header[layout::ROW_MASS] = self.law.mass;
         header[layout::ROW_INERTIA] = self.law.moment_of_inertia;
@@ -46,10 +48,11 @@ impl GpuEngine {
                 self.dispatch_row(&mut pass, Kernel::RowProfileFinal, groups(count));
             }
         }
-        let sums_bytes = (ROW_SUMS * 8) as u64;
+        let sums_bytes = self.device_len(Binding::RowData, (ROW_SUMS * 8) as u64);
+        let slab_bytes = self.device_len(Binding::RowProfileData, (count * 8) as u64);
         encoder.copy_buffer_to_buffer(
             self.buffers.get(Binding::RowData),
-            (layout::ROW_RESULTS * 8) as u64,
+            self.device_offset(Binding::RowData, (layout::ROW_RESULTS * 8) as u64),
             &self.row_readback,
             0,
             sums_bytes,
@@ -60,13 +63,16 @@ impl GpuEngine {
                 0,
                 &self.row_readback,
                 sums_bytes,
-                (count * 8) as u64,
+                slab_bytes,
             );
         }
         self.ctx.queue.submit([encoder.finish()]);
-        let raw = self.map_counted(&self.row_readback, sums_bytes + (count * 8) as u64)?;
-        let numbers: Vec<f64> = bytemuck::pod_collect_to_vec(&raw);
-        let sums = &numbers[..ROW_SUMS];
+        let raw = self.map_counted(&self.row_readback, sums_bytes + slab_bytes)?;
+        let (sums, slabs) = raw.split_at(sums_bytes as usize);
+        let sums: Vec<f64> =
+            bytemuck::pod_collect_to_vec(&self.decoded(Binding::RowData, sums.to_vec()));
+        let slab_volumes: Vec<f64> =
+            bytemuck::pod_collect_to_vec(&self.decoded(Binding::RowProfileData, slabs.to_vec()));
         let projected_area = if request.projected_area {
             Some(if n == 0 {
                 0.0
@@ -89,7 +95,7 @@ impl GpuEngine {
             contacts: (d.pair_contacts, d.wall_contacts),
             slab_volumes: match request.slabs {
                 Some(s) if count == 0 => vec![0.0; s.count],
-                Some(_) => numbers[ROW_SUMS..].to_vec(),
+                Some(_) => slab_volumes,
                 None => Vec::new(),
             },
             projected_area,
@@ -139,11 +145,7 @@ impl GpuEngine {
     }
 
     fn write_row_data(&self, at: usize, values: &[f64]) {
-        self.ctx.queue.write_buffer(
-            self.buffers.get(Binding::RowData),
-            (at * 8) as u64,
-            bytemuck::cast_slice(values),
-        );
+        self.write_at(Binding::RowData, (at * 8) as u64, values);
     }
 
     fn dispatch_row(&self, pass: &mut wgpu::ComputePass<'_>, kernel: Kernel, groups: u32) {
@@ -161,7 +163,7 @@ impl GpuEngine {
             self.buffers.grow(&self.ctx.device, binding, grown);
             self.bind_groups = self.kernels.bind_groups(&self.ctx.device, &self.buffers);
         }
-        // The profile's results come back after the sums.
+        // The profile's results come back after the sums (device bytes, at most the host's).
         let readback = (ROW_SUMS * 8) as u64 + self.buffers.get(Binding::RowProfileData).size();
         if self.row_readback.size() < readback {
             self.row_readback = row_readback_buffer(&self.ctx.device, readback);

@@ -6,19 +6,13 @@ use crate::backend::gpu::buffers::{PAIR_N1, PAIR_N2};
 use crate::backend::gpu::interface::{Binding, Kernel};
 use crate::backend::gpu::layout::SLOT_CHUNKS;
 use crate::backend::gpu::layout::{self, vec4, GpuConstants, GpuMonomerAux, GpuWall};
+use crate::backend::gpu::shader::Precision;
+use crate::mixed::split::SplitPosition;
 use crate::state::interaction::wall_interaction;
 use crate::state::{ContactTable, Monomers};
 use glam::DVec3;
 
 impl GpuEngine {
-    pub(super) fn write<T: bytemuck::Pod>(&self, binding: Binding, data: &[T]) {
-        if !data.is_empty() {
-            self.ctx
-                .queue
-                .write_buffer(self.buffers.get(binding), 0, bytemuck::cast_slice(data));
-        }
-    }
-
     /// Writes a per-slot vector array to its chunk bindings.
     fn write_slots(&self, chunks: [Binding; SLOT_CHUNKS], data: &[[f64; 4]]) {
         for (chunk, part) in chunks.into_iter().zip(data.chunks(self.sizes.slot_chunk())) {
@@ -40,10 +34,15 @@ impl GpuEngine {
                 normal: vec4(w.normal),
                 velocity: vec4(w.velocity),
                 k: GpuConstants::from(w.constants),
+                point_lo: match self.precision {
+                    Precision::Exact => [0.0; 4],
+                    // What the f32 nearest to each coordinate leaves out.
+                    Precision::Mixed => vec4(w.point - w.point.as_vec3().as_dvec3()),
+                },
             })
             .collect();
         self.write(Binding::Walls, &walls);
-        self.write(Binding::Position, &v4(&m.position));
+        self.write_positions(&m.position);
         self.write(Binding::Velocity, &v4(&m.velocity));
         self.write(Binding::AngularVelocity, &v4(&m.angular_velocity));
         self.write(Binding::Force, &v4(&m.force));
@@ -122,6 +121,32 @@ impl GpuEngine {
         self.dispatch(&[Kernel::ContactsPairTests]);
     }
 
+    /// The centres: f64 vectors in the exact precision, split in the mixed one (voxel, offset
+    /// and its low part: `mixed::SplitPosition`, exact to 2⁻⁴⁵ cm).
+    fn write_positions(&self, position: &[DVec3]) {
+        match self.precision {
+            Precision::Exact => self.write(
+                Binding::Position,
+                &position.iter().map(|x| vec4(*x)).collect::<Vec<_>>(),
+            ),
+            Precision::Mixed => {
+                let split: Vec<SplitPosition> = position
+                    .iter()
+                    .map(|x| SplitPosition::from_f64(*x))
+                    .collect();
+                let voxel: Vec<[i32; 4]> =
+                    split.iter().map(|s| s.voxel.extend(0).to_array()).collect();
+                let offset: Vec<[f64; 4]> =
+                    split.iter().map(|s| vec4(s.offset.as_dvec3())).collect();
+                let lo: Vec<[f64; 4]> =
+                    split.iter().map(|s| vec4(s.offset_lo.as_dvec3())).collect();
+                self.write(Binding::PositionVoxel, &voxel);
+                self.write(Binding::Position, &offset);
+                self.write(Binding::PositionLo, &lo);
+            }
+        }
+    }
+
     /// Empties the work lists, as integrate_drift does before each step's scan (tests that
     /// run contacts_scan on an uploaded state, whose lists are those of a finished step).
     pub fn clear_work_lists(&self) {
@@ -137,10 +162,10 @@ impl GpuEngine {
         // The pair-contact list's dispatch as contacts_scan would size it now.
         let pairs = self.read::<u32>(Binding::Work, layout::WORK_LISTS)[layout::WORK_PAIRS];
         let groups = (pairs as usize).div_ceil(layout::PAIR_GROUP) as u32;
-        self.ctx.queue.write_buffer(
-            self.buffers.get(Binding::WorkArgs),
+        self.write_at(
+            Binding::WorkArgs,
             (12 * layout::WORK_PAIRS) as u64,
-            bytemuck::cast_slice(&[groups.min(self.work_groups_max)]),
+            &[groups.min(self.work_groups_max)],
         );
     }
 }

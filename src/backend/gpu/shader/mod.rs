@@ -119,11 +119,22 @@ pub const MIXED: &[Source] = &[
 /// (`bindings`) and use them (`interaction`, `cells`). A test checks this list against
 /// `shaders/engine/`.
 pub const ENGINE: &[Source] = &[
+    wgsl!("engine/accumulators.wgsl"),
     wgsl!("engine/bindings.wgsl"),
     wgsl!("engine/cells.wgsl"),
     wgsl!("engine/interaction.wgsl"),
     wgsl!("engine/owner.wgsl"),
+    wgsl!("engine/pointers.wgsl"),
+    wgsl!("engine/positions.wgsl"),
     wgsl!("engine/wall_sums.wgsl"),
+];
+
+/// Engine modules of the mixed precision, each in place of the engine module of the same
+/// name ([`modules_at`]). A test checks this list against `shaders/mixed_engine/`.
+pub const MIXED_ENGINE: &[Source] = &[
+    wgsl!("mixed_engine/accumulators.wgsl"),
+    wgsl!("mixed_engine/pointers.wgsl"),
+    wgsl!("mixed_engine/positions.wgsl"),
 ];
 
 /// Passes: the engine's entry points, in files named as the CPU backend's passes. A test checks
@@ -150,30 +161,48 @@ pub fn modules() -> Vec<Source> {
     MODEL.iter().chain(ENGINE).chain(MIXED).copied().collect()
 }
 
+/// The modules a pass is assembled from at `precision`: [`modules`], with the mixed
+/// precision's engine modules first (the first of a name is the one taken).
+pub fn modules_at(precision: Precision) -> Vec<Source> {
+    let first: &[Source] = match precision {
+        Precision::Exact => &[],
+        Precision::Mixed => MIXED_ENGINE,
+    };
+    first.iter().copied().chain(modules()).collect()
+}
+
 /// naga capabilities the f64 sources may use ([`Precision::Exact`]); the mixed texts use
 /// none ([`Precision::capabilities`]).
 pub const CAPABILITIES: naga::valid::Capabilities = naga::valid::Capabilities::FLOAT64;
 
-/// The engine's bindings module (shaders/engine/bindings.wgsl with its requirements) as naga
-/// reads it, for the tests that hold the host side to it.
+/// The engine's bindings module (shaders/engine/bindings.wgsl with its requirements) at
+/// `precision`, as naga reads it: what the host's layouts are derived from and checked against.
+pub(crate) fn bindings_module(precision: Precision) -> Result<naga::Module, ShaderError> {
+    let bindings = ENGINE.iter().find(|m| m.name() == "bindings").unwrap();
+    let assembled = assemble(bindings, &modules_at(precision))?.with_precision(precision);
+    Ok(assembled.validate()?.0)
+}
+
+/// [`bindings_module`] in the exact precision, for the tests that hold the host side to it.
 #[cfg(test)]
 pub(crate) fn engine_module() -> naga::Module {
-    let bindings = ENGINE.iter().find(|m| m.name() == "bindings").unwrap();
-    assemble(bindings, &modules())
-        .unwrap()
-        .validate()
-        .unwrap()
-        .0
+    bindings_module(Precision::Exact).unwrap()
 }
 
 /// Assembles the registered pass or probe called `name` (file stem, e.g. `contact_law_probe`).
 pub fn assemble_pass(name: &str) -> Result<Assembled, ShaderError> {
+    assemble_pass_at(name, Precision::Exact)
+}
+
+/// [`assemble_pass`] at `precision`: its modules ([`modules_at`]) and its text
+/// ([`Assembled::with_precision`]).
+pub fn assemble_pass_at(name: &str, precision: Precision) -> Result<Assembled, ShaderError> {
     let pass = PASSES
         .iter()
         .chain(PROBES)
         .find(|p| p.name() == name)
         .ok_or_else(|| ShaderError::UnknownPass(name.to_string()))?;
-    assemble(pass, &modules())
+    Ok(assemble(pass, &modules_at(precision))?.with_precision(precision))
 }
 
 /// Assembles `file` with the modules it requires, taken from `modules`.

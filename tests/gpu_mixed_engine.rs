@@ -1,0 +1,124 @@
+//! The engine in the mixed precision (f32 arithmetic; split centres, double-f32 pointers, wall
+//! points and tallies: DESIGN.md, "Precision") on a device made without f64, held to closed
+//! forms where motion is free and to itself for determinism. Compressions against the CPU
+//! reference are in tests/gpu_compression.rs.
+
+mod common;
+
+use common::*;
+use dustdem::backend::gpu::context::{context_for_tests_with, ShaderF64};
+use dustdem::backend::gpu::engine::GpuEngine;
+use dustdem::backend::gpu::shader::Precision;
+use dustdem::model::{ContactLaw, Damping, WallFactors};
+use dustdem::state::{Monomers, Wall};
+use dustdem::state::{DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS};
+use glam::DVec3;
+
+fn mixed(law: ContactLaw, dt: f64, m: Monomers, walls: Vec<Wall>) -> Option<GpuEngine> {
+    let ctx = context_for_tests_with(ShaderF64::Refused)?;
+    let e = GpuEngine::new(
+        ctx,
+        law,
+        dt,
+        m,
+        walls,
+        DEFAULT_PAIR_SLOTS,
+        DEFAULT_WALL_SLOTS,
+    );
+    let e = e.unwrap();
+    assert_eq!(e.precision, Precision::Mixed);
+    Some(e)
+}
+
+/// The f32 nearest to x, as f64.
+fn f32_of(x: f64) -> f64 {
+    f64::from(x as f32)
+}
+
+#[test]
+fn a_free_monomer_at_1_cm_per_s_moves_by_every_step() {
+    // 0.6 µm radius, 60 µm from the origin (where an f32 coordinate's ulp is 3.7e-10 cm, more
+    // than the step of 3e-10 cm: a plain f32 centre would not move at all).
+    let law = undamped();
+    let dt = 3e-10;
+    let (x0, v) = (
+        DVec3::new(6.1e-3, 6.2e-3, 6.3e-3),
+        DVec3::new(1.0, -0.5, 0.25),
+    );
+    let mut m = Monomers::new(vec![x0]);
+    m.velocity[0] = v;
+    let Some(mut e) = mixed(law, dt, m, Vec::new()) else {
+        return;
+    };
+    e.readback_every = 1000;
+    let steps = 20_000u64;
+    e.run(steps).unwrap();
+    let x = e.positions()[0];
+    // Each step adds the f32 product of the f32 velocity and the f32 dt, exactly (the offset
+    // and its low part are a double-f32, 2⁻⁴⁸ of a voxel per step): the closed form with those
+    // products, to the split's 2⁻⁴⁵ cm. The f64 closed form differs by their rounding,
+    // at most 2⁻²³ of the travel per axis.
+    for axis in 0..3 {
+        let step = f32_of(f32_of(v[axis]) * f32_of(dt));
+        let expected = x0[axis] + steps as f64 * f32_of(f32_of(v[axis]) * f32_of(dt));
+        let travel = steps as f64 * v[axis].abs() * dt;
+        let error = (x[axis] - expected).abs();
+        eprintln!("axis {axis}: travel {travel:.3e} cm, off the f32-step closed form by {error:.2e} cm (step {step:.6e})");
+        assert!(error <= 1e-13, "axis {axis}: {error:e}");
+        let exact = x0[axis] + v[axis] * dt * steps as f64;
+        assert!((x[axis] - exact).abs() <= travel * 2f64.powi(-23) + 1e-13);
+    }
+}
+
+#[test]
+fn a_wall_at_1_cm_per_s_moves_by_every_step() {
+    let law = undamped();
+    let dt = 3e-10;
+    // A monomer far from the wall, so the wall moves alone.
+    let m = Monomers::new(vec![DVec3::new(1e-3, 1e-3, 1e-3)]);
+    let wall = Wall {
+        name: "top".into(),
+        point: DVec3::new(0.0, 0.0, 6.0e-3),
+        normal: DVec3::NEG_Z,
+        velocity: DVec3::new(0.0, 0.0, -1.0),
+        constants: law.wall_constants(WallFactors::FULL),
+    };
+    let Some(mut e) = mixed(law, dt, m, vec![wall]) else {
+        return;
+    };
+    e.readback_every = 1000;
+    let steps = 20_000u64;
+    e.run(steps).unwrap();
+    let z = e.current_walls()[0].point.z;
+    let expected = 6.0e-3 - steps as f64 * f32_of(f32_of(1.0) * f32_of(dt));
+    let travel = steps as f64 * dt;
+    eprintln!(
+        "wall travel {travel:.3e} cm, off the f32-step closed form by {:.2e} cm",
+        (z - expected).abs()
+    );
+    // The point is a double-f32 (2⁻⁴⁸ relative): exact sums of the f32 steps.
+    assert!((z - expected).abs() <= 1e-13, "{z} vs {expected}");
+    assert!((z - (6.0e-3 - travel)).abs() <= travel * 2f64.powi(-23) + 1e-13);
+}
+
+#[test]
+fn the_mixed_precision_repeats_itself_to_the_bit() {
+    let law = law_with(Damping::Viscous { kappa: 1e-6 });
+    let dt = 2.5e-11;
+    let m = moving_cluster(&law, 60.0, 11);
+    let run = || {
+        let mut e = mixed(law, dt, m.clone(), Vec::new())?;
+        e.readback_every = 50;
+        e.run(100).unwrap();
+        Some(e.snapshot())
+    };
+    let Some(a) = run() else {
+        return;
+    };
+    let b = run().unwrap();
+    assert!(a.contacts.pair_contact_count() > 0);
+    assert_eq!(a.monomers.position, b.monomers.position);
+    assert_eq!(a.monomers.velocity, b.monomers.velocity);
+    assert_eq!(a.contacts.pair, b.contacts.pair);
+    assert_eq!(a.tally, b.tally);
+}
