@@ -163,11 +163,11 @@ fn a_1_cm_per_s_segment_gives_the_same_mean_wall_force_in_the_relaxed_mode() {
 /// centre of the f64 run by ±10⁻¹⁰ cm (a quarter of an f32 coordinate's ulp here) moved it by
 /// 6.0 %, ±10⁻⁹ cm by 2.2 %. So the mixed run must land within the spread of f64 runs from
 /// such perturbed starts (three of them; bound: twice their largest distance from the
-/// unperturbed run), and close its energy balance as the f64 run does (to 1e-4 of the wall
-/// work). The wall's 3.6·10⁻¹⁰ cm per step is below an f32 coordinate's ulp there: this holds
+/// unperturbed run), and close its energy balance nearly as the f64 run does (which moves by
+/// 4.6e-4 of the wall work here: bound twice that plus 1e-4). The wall's 3.6·10⁻¹⁰ cm per step is below an f32 coordinate's ulp there: this holds
 /// only with the double-f32 wall point.
 #[test]
-#[ignore = "fails today: the mixed run lands 5.4 % off (spread 2.2 %) and its energy balance moves by 0.17 of the wall work (DESIGN.md, \"The mixed engine\")"]
+#[ignore = "does not hold yet: the energy balance moves by 0.12 of the wall work (DESIGN.md, \"The mixed engine\")"]
 fn a_1_cm_per_s_segment_in_the_mixed_precision_stays_within_the_f64_spread() {
     let Some(ctx) = context_for_tests_with(ShaderF64::Refused) else {
         return;
@@ -199,8 +199,10 @@ fn a_1_cm_per_s_segment_in_the_mixed_precision_stays_within_the_f64_spread() {
     );
     assert!(spread > 0.0);
     assert!(rel <= 2.0 * spread, "{rel:e} vs spread {spread:e}");
-    assert!(closure_exact <= 1e-4, "{closure_exact:e}");
-    assert!(closure_mixed <= 1e-4, "{closure_mixed:e}");
+    assert!(
+        closure_mixed <= 2.0 * closure_exact + 1e-4,
+        "{closure_mixed:e}"
+    );
 }
 
 /// The loaded state with the walls at a tenth of their speed (1 cm/s), the top wall's index
@@ -290,4 +292,39 @@ fn segment_on(ctx: GpuContext, mode: &str, bound: f64) {
         "the segment starts from a loaded state"
     );
     assert!(rel <= bound, "{rel:e}");
+}
+
+/// One step of the mixed precision from the loaded sample against one of the exact: what it
+/// keeps of the pointers (double-f32, turned by f32 increments; the rolling corrections, a
+/// third of the 1369 contacts here, take the low parts into n₁ + n₂) and of the energy tally.
+/// Measured 1.6e-7 and 1.3e-4 F_c δ₀ (all channels, all monomers); with the corrections on the
+/// high parts alone the pointers moved 1e-5 apart and the rolling channel 0.12 F_c δ₀. Bounds:
+/// 1e-6 and 1e-3 F_c δ₀.
+#[test]
+fn one_mixed_step_keeps_the_pointers_and_the_tally() {
+    let Some(exact) = context_for_tests() else {
+        return;
+    };
+    let mixed = context_for_tests_with(ShaderF64::Refused).unwrap();
+    let (state, _, _) = segment_start();
+    let mut a = GpuEngine::resume(exact, &state).unwrap();
+    let mut b = GpuEngine::resume(mixed, &state).unwrap();
+    a.run(1).unwrap();
+    b.run(1).unwrap();
+    let (sa, sb) = (a.snapshot(), b.snapshot());
+    let pointers = sa
+        .contacts
+        .pair
+        .iter()
+        .zip(&sb.contacts.pair)
+        .map(|(x, y)| (x.n1 - y.n1).length().max((x.n2 - y.n2).length()))
+        .fold(0.0, f64::max);
+    let (ta, tb) = (sa.tally.channels(), sb.tally.channels());
+    let (t0, scale) = (state.tally.channels(), state.law().pair.f_c * state.law().pair.delta0);
+    let tally = (0..7)
+        .map(|c| ((ta[c] - t0[c]) - (tb[c] - t0[c])).abs() / scale)
+        .fold(0.0, f64::max);
+    eprintln!("one step: pointers differ by {pointers:.2e}; tally channels by {tally:.2e} F_c δ₀");
+    assert!(pointers <= 1e-6, "{pointers:e}");
+    assert!(tally <= 1e-3, "{tally:e}");
 }

@@ -53,6 +53,12 @@ struct Params {
     poisson: f64,
     damping_value: f64,
     pair: Constants,
+    // The mixed precision's double-f32 radius and (2r)² (what their f32 leave out in the _lo
+    // parts): overlaps to 10⁻⁵ δ₀ need more than an f32 radius (shaders/mixed_engine/
+    // positions.wgsl). Unread in the exact precision.
+    radius_lo: f64,
+    two_r_squared: f64,
+    two_r_squared_lo: f64,
 }
 
 // A planar wall; `normal` points into the domain. The point moves with `velocity`.
@@ -227,7 +233,7 @@ const ROW_PARTIALS: u32 = 24u;
 @group(0) @binding(26) var<storage, read_write> pair_result_c_2: array<vec4<f64>>;
 // Wall slots, `wall_slots` per monomer: pointer (w: twist), anchor, wall index; the count.
 @group(0) @binding(27) var<storage, read_write> wall_n1: array<ContactPointer>;
-@group(0) @binding(28) var<storage, read_write> wall_anchor: array<vec4<f64>>;
+@group(0) @binding(28) var<storage, read_write> wall_anchor: array<WallAnchor>;
 @group(0) @binding(29) var<storage, read_write> wall_id: array<u32>;
 @group(0) @binding(30) var<storage, read_write> wall_count: array<u32>;
 // Force of each wall contact on its monomer (for the per-wall reduction and the gather), its

@@ -24,9 +24,10 @@ fn law_damping() -> Damping {
     return Damping(params.damping_kind, params.damping_value);
 }
 
+// The pair as `centres` (engine/positions.wgsl) gives it: x1 − x2 and the overlap, which the
+// mixed precision evaluates from split centres (the CPU twin takes x1 and x2).
 fn pair_interaction(
-    x1: vec3<f64>,
-    x2: vec3<f64>,
+    centres: PairCentres,
     v1: vec3<f64>,
     v2: vec3<f64>,
     n1: vec3<f64>,
@@ -35,10 +36,10 @@ fn pair_interaction(
 ) -> PairInteraction {
     let k = params.pair;
     let r = params.radius;
-    let d = x1 - x2;
+    let d = centres.x1 - centres.x2;
     let distance = vec_length(d);
     let nc = d / distance;
-    let x = jkr_contact_radius_ratio((2.0lf * r - distance) / k.delta0);
+    let x = jkr_contact_radius_ratio(centres.delta / k.delta0);
     let normal = nc * jkr_force(x, k.f_c);
     let coefficient = damping_coefficient(law_damping(), x * k.a0, params.e_star, params.poisson);
     let damping = nc * (-coefficient * vec_dot(v1 - v2, nc));
@@ -56,13 +57,13 @@ fn pair_interaction(
     return PairInteraction(normal + damping + slide, damping, torque1, torque2);
 }
 
-fn pair_contact_potential(x1: vec3<f64>, x2: vec3<f64>, n1: vec3<f64>, n2: vec3<f64>, twist: f64) -> f64 {
+fn pair_contact_potential(centres: PairCentres, n1: vec3<f64>, n2: vec3<f64>, twist: f64) -> f64 {
     let k = params.pair;
     let r = params.radius;
-    let d = x1 - x2;
+    let d = centres.x1 - centres.x2;
     let distance = vec_length(d);
     let nc = d / distance;
-    let delta = 2.0lf * r - distance;
+    let delta = centres.delta;
     let xi = rolling_displacement(n1, n2, k.reduced_radius);
     let zeta = sliding_displacement(n1, n2, nc, r, r);
     return jkr_potential_at_overlap(delta / k.delta0, k.f_c, k.delta0)
@@ -75,22 +76,24 @@ fn pair_contact_potential(x1: vec3<f64>, x2: vec3<f64>, n1: vec3<f64>, n2: vec3<
 // (see pair_step_energy in src/state/interaction.rs for why).
 fn pair_step_energy(i: u32, j: u32, n1: vec3<f64>, n2: vec3<f64>, twist: f64) -> f64 {
     let centres = pair_centres(i, j);
-    let x1 = centres.x1;
-    let x2 = centres.x2;
     let v1 = velocity[i].xyz;
     let v2 = velocity[j].xyz;
-    let it = pair_interaction(x1, x2, v1, v2, n1, n2, twist);
+    let it = pair_interaction(centres, v1, v2, n1, n2, twist);
     let work = vec_dot(it.f - it.fd, v1 - v2)
         + vec_dot(it.m1, angular_velocity[i].xyz)
         + vec_dot(it.m2, angular_velocity[j].xyz);
-    return pair_contact_potential(x1, x2, n1, n2, twist) + 0.5lf * params.dt * work;
+    return pair_contact_potential(centres, n1, n2, twist) + 0.5lf * params.dt * work;
 }
 
-fn wall_interaction(x: vec3<f64>, v: vec3<f64>, wall: Wall, n1: vec3<f64>, anchor: vec3<f64>, twist: f64) -> WallInteraction {
+// The monomer in `frame` (engine/positions.wgsl): x, the wall as seen there and the overlap;
+// `anchor` in the same frame (the CPU twin takes x and the wall in the box's frame).
+fn wall_interaction(frame: WallFrame, v: vec3<f64>, n1: vec3<f64>, anchor: vec3<f64>, twist: f64) -> WallInteraction {
+    let x = frame.x;
+    let wall = frame.wall;
     let k = wall.k;
     let r = params.radius;
     let n = wall.normal.xyz;
-    let x_ratio = jkr_contact_radius_ratio(wall_overlap(x, wall.point.xyz, n, r) / k.delta0);
+    let x_ratio = jkr_contact_radius_ratio(frame.delta / k.delta0);
     let normal = n * jkr_force(x_ratio, k.f_c);
     let coefficient = damping_coefficient(law_damping(), x_ratio * k.a0, params.e_star, params.poisson);
     let damping = n * (-coefficient * vec_dot(v - wall.velocity.xyz, n));
@@ -102,11 +105,12 @@ fn wall_interaction(x: vec3<f64>, v: vec3<f64>, wall: Wall, n1: vec3<f64>, ancho
     return WallInteraction(normal + damping + wall_sliding_force(zeta, k.k_s), damping, torque);
 }
 
-fn wall_contact_potential(x: vec3<f64>, wall: Wall, n1: vec3<f64>, anchor: vec3<f64>, twist: f64) -> f64 {
-    let k = wall.k;
+fn wall_contact_potential(frame: WallFrame, n1: vec3<f64>, anchor: vec3<f64>, twist: f64) -> f64 {
+    let x = frame.x;
+    let k = frame.wall.k;
     let r = params.radius;
-    let n = wall.normal.xyz;
-    let delta = wall_overlap(x, wall.point.xyz, n, r);
+    let n = frame.wall.normal.xyz;
+    let delta = frame.delta;
     let xi = wall_rolling_displacement(n1, n, r);
     let zeta = wall_sliding_displacement(x, n1, r, anchor, n);
     return jkr_potential_at_overlap(delta / k.delta0, k.f_c, k.delta0)
@@ -115,15 +119,14 @@ fn wall_contact_potential(x: vec3<f64>, wall: Wall, n1: vec3<f64>, anchor: vec3<
         + twisting_potential(twist, k.k_t);
 }
 
-fn wall_step_energy(i: u32, wall: Wall, n1: vec3<f64>, anchor: vec3<f64>, twist: f64) -> f64 {
+fn wall_step_energy(i: u32, wall: Wall, n1: vec3<f64>, anchor: WallAnchor, twist: f64) -> f64 {
     // In the wall's frame (engine/positions.wgsl): the box's in the exact precision.
     let frame = wall_frame(i, wall);
-    let x = frame.x;
-    let p = anchor_into_frame(anchor, wall);
+    let p = anchor_into_frame(anchor, frame);
     let v = velocity[i].xyz;
-    let it = wall_interaction(x, v, frame.wall, n1, p, twist);
+    let it = wall_interaction(frame, v, n1, p, twist);
     let work = vec_dot(it.f - it.fd, v - wall.velocity.xyz) + vec_dot(it.m, angular_velocity[i].xyz);
-    return wall_contact_potential(x, frame.wall, n1, p, twist) + 0.5lf * params.dt * work;
+    return wall_contact_potential(frame, n1, p, twist) + 0.5lf * params.dt * work;
 }
 
 // Whether a contact needs any inelastic correction (apply_inelastic_limits in

@@ -27,7 +27,7 @@ fn apply_inelastic_limits(i: u32) {
         // one's "before" (`current` in the CPU twin).
         var current = 0.0lf;
         var known = false;
-        let rolled = rolling_correction(n1, n2, k.reduced_radius, k.xi_crit);
+        let rolled = rolling_correction_of(stored_n1, stored_n2, k.reduced_radius, k.xi_crit);
         if rolled.changed {
             let before = pair_step_energy(i, j, n1, n2, twist);
             n1 = rolled.n1;
@@ -81,7 +81,7 @@ fn wall_contacts_of(i: u32) {
         // exact precision.
         let frame = wall_frame(i, wall);
         let x = frame.x;
-        var anchor = anchor_into_frame(wall_anchor[idx].xyz, wall);
+        var anchor = anchor_into_frame(wall_anchor[idx], frame);
 
         // apply_wall_inelastic_limits: everything goes to the walls channel. The contact as it
         // was, for its step energy should a correction change it.
@@ -89,7 +89,7 @@ fn wall_contacts_of(i: u32) {
         let anchor_before = anchor;
         let twist_before = twist;
         var changed = false;
-        let rolled = wall_rolling_correction(n1, anchor, normal, r, k.xi_crit);
+        let rolled = wall_rolling_correction_of(stored, anchor, normal, r, k.xi_crit);
         if rolled.changed {
             n1 = rolled.n1;
             anchor = rolled.anchor;
@@ -107,14 +107,14 @@ fn wall_contacts_of(i: u32) {
             changed = true;
         }
         if changed {
-            let kept = anchor_out_of_frame(anchor, wall);
-            let before = wall_step_energy(i, wall, n1_before, anchor_out_of_frame(anchor_before, wall), twist_before);
+            let kept = anchor_out_of_frame(anchor, frame);
+            let before = wall_step_energy(i, wall, n1_before, anchor_out_of_frame(anchor_before, frame), twist_before);
             add_tally(i, TALLY_WALLS, before - wall_step_energy(i, wall, n1, kept, twist));
             wall_n1[idx] = replaced_contact_pointer(stored, n1, twist);
-            wall_anchor[idx] = vec4<f64>(kept, 0.0lf);
+            wall_anchor[idx] = kept;
         }
 
-        let it = wall_interaction(x, v, frame.wall, n1, anchor, twist);
+        let it = wall_interaction(frame, v, n1, anchor, twist);
         wall_force[idx] = vec4<f64>(it.f, 0.0lf);
         wall_damping[idx] = vec4<f64>(it.fd, 0.0lf);
         wall_torque[idx] = vec4<f64>(it.m, 0.0lf);

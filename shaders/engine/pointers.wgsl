@@ -1,4 +1,4 @@
-// requires: pointer
+// requires: pointer rolling wall
 //
 // The contact pointers as each slot stores them. In the exact precision (this file) they are
 // the f64 unit vectors of state::PairContact and state::WallContact, turned by
@@ -15,6 +15,12 @@ struct ContactPointer {
 // A pair contact's pointer on the partner (32 bytes; the host writes [x, y, z, 0]).
 struct SecondPointer {
     n: vec3<f64>,
+}
+
+// Where a wall contact formed (state::WallContact's anchor), in the box's frame: 32 bytes (the
+// host writes [x, y, z, 0]).
+struct WallAnchor {
+    p: vec3<f64>,
 }
 
 fn contact_pointer(n: vec3<f64>, twist: f64) -> ContactPointer {
@@ -34,11 +40,22 @@ fn replaced_second_pointer(old: SecondPointer, n: vec3<f64>) -> SecondPointer {
     return SecondPointer(n);
 }
 
-// `p` turned by the rotation vector w, with the twist set to twist.
-fn turned_contact_pointer(p: ContactPointer, w: vec3<f64>, twist: f64) -> ContactPointer {
-    return ContactPointer(rotate_pointer(p.n, w), twist);
+// `p` turned by the rotation vector w, its twist advanced by twist_step.
+fn turned_contact_pointer(p: ContactPointer, w: vec3<f64>, twist_step: f64) -> ContactPointer {
+    return ContactPointer(rotate_pointer(p.n, w), p.twist + twist_step);
 }
 
 fn turned_second_pointer(p: SecondPointer, w: vec3<f64>) -> SecondPointer {
     return SecondPointer(rotate_pointer(p.n, w));
+}
+
+// The inelastic rolling corrections on the stored records (model/rolling.wgsl,
+// model/wall.wgsl): here the pointers themselves; the mixed precision's take their low parts
+// into the small sums n₁ + n₂ and n₁ + n_w.
+fn rolling_correction_of(p1: ContactPointer, p2: SecondPointer, reduced_radius: f64, xi_crit: f64) -> RollingCorrection {
+    return rolling_correction(p1.n, p2.n, reduced_radius, xi_crit);
+}
+
+fn wall_rolling_correction_of(p: ContactPointer, anchor: vec3<f64>, normal: vec3<f64>, r: f64, xi_crit: f64) -> WallRollingCorrection {
+    return wall_rolling_correction(p.n, anchor, normal, r, xi_crit);
 }

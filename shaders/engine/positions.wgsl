@@ -11,40 +11,45 @@ fn centre(i: u32) -> vec3<f64> {
     return position[i].xyz;
 }
 
-// The centres of a pair as the contact law takes them: it reads only x1 − x2.
+// The centres of a pair as the contact law takes them: it reads x1 − x2 for the direction and
+// `delta`, the overlap 2r − |x1 − x2|.
 struct PairCentres {
     x1: vec3<f64>,
     x2: vec3<f64>,
+    delta: f64,
 }
 
 fn pair_centres(i: u32, j: u32) -> PairCentres {
-    return PairCentres(position[i].xyz, position[j].xyz);
+    let x1 = position[i].xyz;
+    let x2 = position[j].xyz;
+    return PairCentres(x1, x2, 2.0lf * params.radius - vec_length(x1 - x2));
 }
 
-// Overlap 2r − |x_i − x_j| of a pair.
 fn pair_overlap_of(i: u32, j: u32) -> f64 {
-    let c = pair_centres(i, j);
-    return 2.0lf * params.radius - vec_length(c.x1 - c.x2);
+    return pair_centres(i, j).delta;
 }
 
-// A monomer and a wall as the wall law takes them. The law reads x − point and differences of
-// anchors (points on the wall), so a frame with its origin elsewhere changes only rounding;
+// A monomer and a wall as the wall law takes them. The law reads x − point and x − anchor (an
+// anchor is a point on the wall), so a frame with its origin elsewhere changes only rounding;
 // here the frame is the box's and the anchors pass unchanged.
 struct WallFrame {
     x: vec3<f64>,
     wall: Wall,
+    // The overlap r − (x − point)·normal.
+    delta: f64,
 }
 
 fn wall_frame(i: u32, wall: Wall) -> WallFrame {
-    return WallFrame(position[i].xyz, wall);
+    let x = position[i].xyz;
+    return WallFrame(x, wall, wall_overlap(x, wall.point.xyz, wall.normal.xyz, params.radius));
 }
 
-fn anchor_into_frame(anchor: vec3<f64>, wall: Wall) -> vec3<f64> {
-    return anchor;
+fn anchor_into_frame(anchor: WallAnchor, frame: WallFrame) -> vec3<f64> {
+    return anchor.p;
 }
 
-fn anchor_out_of_frame(anchor: vec3<f64>, wall: Wall) -> vec3<f64> {
-    return anchor;
+fn anchor_out_of_frame(anchor: vec3<f64>, frame: WallFrame) -> WallAnchor {
+    return WallAnchor(anchor);
 }
 
 // Overlap of monomer i with the wall through `point` (low part `point_lo`, unused here) along

@@ -1,14 +1,17 @@
-// requires: split_pointer
+// requires: split_pointer double_f32 rolling wall math32
 //
 // shaders/engine/pointers.wgsl in the mixed precision: each pointer a double-f32 (n + n_lo),
 // turned by an f32 increment added exactly (rotate_split_pointer). A plain f32 pointer turned
 // by 10⁻⁶ rad every step falls 1.3 % behind in 10⁵ steps (DESIGN.md, "Precision"). The laws
 // read the high part, within 6·10⁻⁸ of the pointer.
 
+// The twist is a double-f32 too: 10⁻⁶ rad steps on an angle of 10⁻² rad would lose 10⁻³ of
+// each step in an f32.
 struct ContactPointer {
     n: vec3<f32>,
     twist: f32,
     n_lo: vec3<f32>,
+    twist_lo: f32,
 }
 
 struct SecondPointer {
@@ -16,8 +19,15 @@ struct SecondPointer {
     n_lo: vec3<f32>,
 }
 
+// The anchor as a double-f32 per axis: the sliding spring is stiff (k_s ζ_crit is F_c/2 at
+// ζ_crit = 4.5·10⁻⁸ cm), and an f32 anchor 0.01 cm from the origin is only good to 5·10⁻¹⁰ cm.
+struct WallAnchor {
+    p: vec3<f32>,
+    p_lo: vec3<f32>,
+}
+
 fn contact_pointer(n: vec3<f32>, twist: f32) -> ContactPointer {
-    return ContactPointer(n, twist, vec3<f32>(0.0f));
+    return ContactPointer(n, twist, vec3<f32>(0.0f), 0.0f);
 }
 
 fn second_pointer(n: vec3<f32>) -> SecondPointer {
@@ -26,8 +36,8 @@ fn second_pointer(n: vec3<f32>) -> SecondPointer {
 
 // A vector a correction left as it was keeps its low part; a new one starts without.
 fn replaced_contact_pointer(old: ContactPointer, n: vec3<f32>, twist: f32) -> ContactPointer {
-    let kept = all(n == old.n);
-    return ContactPointer(n, twist, select(vec3<f32>(0.0f), old.n_lo, kept));
+    let n_lo = select(vec3<f32>(0.0f), old.n_lo, all(n == old.n));
+    return ContactPointer(n, twist, n_lo, select(0.0f, old.twist_lo, twist == old.twist));
 }
 
 fn replaced_second_pointer(old: SecondPointer, n: vec3<f32>) -> SecondPointer {
@@ -35,12 +45,54 @@ fn replaced_second_pointer(old: SecondPointer, n: vec3<f32>) -> SecondPointer {
     return SecondPointer(n, select(vec3<f32>(0.0f), old.n_lo, kept));
 }
 
-fn turned_contact_pointer(p: ContactPointer, w: vec3<f32>, twist: f32) -> ContactPointer {
+fn turned_contact_pointer(p: ContactPointer, w: vec3<f32>, twist_step: f32) -> ContactPointer {
     let s = rotate_split_pointer(SplitUnit(p.n, p.n_lo), w);
-    return ContactPointer(s.hi, twist, s.lo);
+    let twist = double_f32_add_f32(DoubleF32(p.twist, p.twist_lo), twist_step);
+    return ContactPointer(s.hi, twist.hi, s.lo, twist.lo);
 }
 
 fn turned_second_pointer(p: SecondPointer, w: vec3<f32>) -> SecondPointer {
     let s = rotate_split_pointer(SplitUnit(p.n, p.n_lo), w);
     return SecondPointer(s.hi, s.lo);
+}
+
+// rolling_correction (model/rolling.wgsl) on double-f32 pointers. s = n₁ + n₂ is a few
+// thousandths long: the pointers' low parts (6·10⁻⁸) turn its direction by 10⁻⁵ rad, and the
+// projection of t = n₁ − n₂ (length 2) off s would carry that into both pointers. So s and t
+// take the low parts (the high parts' sum is exact: near-opposite f32 vectors); the results
+// are stored without low parts, so the next step's sums are those of what is stored.
+fn rolling_correction_of(p1: ContactPointer, p2: SecondPointer, reduced_radius: f32, xi_crit: f32) -> RollingCorrection {
+    let s = (p1.n + p2.n) + (p1.n_lo + p2.n_lo);
+    let xi = vec32_length(s) * reduced_radius;
+    if xi <= xi_crit {
+        return RollingCorrection(false, p1.n, p2.n);
+    }
+    let s_new = s * (xi_crit / xi);
+    let t = (p1.n - p2.n) + (p1.n_lo - p2.n_lo);
+    let t_perp = t - s_new * (vec32_dot(t, s_new) / vec32_length_squared(s_new));
+    let t_new = t_perp * (sqrt(4.0f - vec32_length_squared(s_new)) / vec32_length(t_perp));
+    return RollingCorrection(true, 0.5f * (s_new + t_new), 0.5f * (s_new - t_new));
+}
+
+// wall_rolling_correction (model/wall.wgsl) on a double-f32 pointer, with sin θ as
+// q √(1 − q²/4) (q = ξ_crit/r): √(1 − cos²θ) would lose ε/q² of it to cancellation.
+fn wall_rolling_correction_of(p: ContactPointer, anchor: vec3<f32>, normal: vec3<f32>, r: f32, xi_crit: f32) -> WallRollingCorrection {
+    let s = (p.n + normal) + p.n_lo;
+    if vec32_length(s) * r <= xi_crit {
+        return WallRollingCorrection(false, p.n, anchor);
+    }
+    let n1 = p.n + p.n_lo;
+    let tangential = s - normal * vec32_dot(s, normal);
+    let t_len = vec32_length(tangential);
+    let q = xi_crit / r;
+    let cos_theta = 1.0f - 0.5f * q * q;
+    let sin_theta = q * sqrt(1.0f - 0.25f * q * q);
+    var dir: vec3<f32>;
+    if t_len > 0.0f {
+        dir = tangential / t_len;
+    } else {
+        dir = any_orthonormal_vector(normal);
+    }
+    let corrected = -normal * cos_theta + dir * sin_theta;
+    return WallRollingCorrection(true, corrected, anchor + ((corrected - p.n) - p.n_lo) * r);
 }

@@ -21,23 +21,30 @@ fn centre(i: u32) -> vec3<f32> {
 struct PairCentres {
     x1: vec3<f32>,
     x2: vec3<f32>,
+    delta: f32,
 }
 
-// x1 − x2 is all the law reads: the separation, with x2 at the origin. Whole voxels apart is
-// exact in f32; the offsets' difference is rounded once.
+// The law reads x1 − x2 (the separation, with x2 at the origin: whole voxels apart is exact in
+// f32, the offsets' difference rounded once) and the overlap, from the split parts and the
+// double-f32 (2r)² (pair_overlap: 10⁻⁵ δ₀ where a rounded separation gives 10⁻³).
 fn pair_centres(i: u32, j: u32) -> PairCentres {
     let s = separation_between(split_of(j), split_of(i));
-    return PairCentres(separation_vector(s), vec3<f32>(0.0f));
+    let two_r_squared = DoubleF32(params.two_r_squared, params.two_r_squared_lo);
+    let delta = pair_overlap(s, 2.0f * params.radius, two_r_squared);
+    return PairCentres(separation_vector(s), vec3<f32>(0.0f), delta);
 }
 
 fn pair_overlap_of(i: u32, j: u32) -> f32 {
-    let c = pair_centres(i, j);
-    return 2.0f * params.radius - vec32_length(c.x1 - c.x2);
+    return pair_centres(i, j).delta;
 }
 
+// The frame of a monomer's own voxel corner (`origin`): its centre, the anchors of its wall
+// contacts and the wall's point along the normal are all small numbers there.
 struct WallFrame {
     x: vec3<f32>,
     wall: Wall,
+    delta: f32,
+    origin: vec3<f32>,
 }
 
 // x − point per axis: the voxel's corner less the point's high part is exact near the wall
@@ -47,26 +54,43 @@ fn wall_relative(p: SplitPosition, point: vec3<f32>, point_lo: vec3<f32>) -> vec
     return (corner - point) + ((p.offset - point_lo) + p.offset_lo);
 }
 
-// The frame with its origin at the wall's point: the wall law sees x − point there.
+// r − (x − point)·n in pieces: r's high part less the coarse distance (exact for an axis
+// normal: two f32 within a factor two), then the fine distance and r's low part, each small.
+fn wall_overlap_split(p: SplitPosition, point: vec3<f32>, point_lo: vec3<f32>, normal: vec3<f32>) -> f32 {
+    let coarse = vec3<f32>(p.voxel) * VOXEL - point;
+    let fine = (p.offset - point_lo) + p.offset_lo;
+    return ((params.radius - vec32_dot(coarse, normal)) - vec32_dot(fine, normal)) + params.radius_lo;
+}
+
 fn wall_frame(i: u32, wall: Wall) -> WallFrame {
+    let p = split_of(i);
+    let origin = vec3<f32>(p.voxel) * VOXEL;
     var framed = wall;
-    framed.point = vec4<f32>(0.0f);
+    // Only its normal component is read (the overlap itself is `delta`).
+    framed.point = vec4<f32>((wall.point.xyz - origin) + wall.point_lo.xyz, 0.0f);
     framed.point_lo = vec4<f32>(0.0f);
-    return WallFrame(wall_relative(split_of(i), wall.point.xyz, wall.point_lo.xyz), framed);
+    let delta = wall_overlap_split(p, wall.point.xyz, wall.point_lo.xyz, wall.normal.xyz);
+    return WallFrame(p.offset + p.offset_lo, framed, delta, origin);
 }
 
-// Anchors are stored in the box's frame (f32); into and out of the wall's.
-fn anchor_into_frame(anchor: vec3<f32>, wall: Wall) -> vec3<f32> {
-    return anchor - wall.point.xyz;
+// Anchors are stored in the box's frame as double-f32; into the frame, the high part less the
+// origin is exact (both within a few radii of each other), and back, TwoSum keeps all of it.
+fn anchor_into_frame(anchor: WallAnchor, frame: WallFrame) -> vec3<f32> {
+    return (anchor.p - frame.origin) + anchor.p_lo;
 }
 
-fn anchor_out_of_frame(anchor: vec3<f32>, wall: Wall) -> vec3<f32> {
-    return anchor + wall.point.xyz;
+fn anchor_out_of_frame(anchor: vec3<f32>, frame: WallFrame) -> WallAnchor {
+    var out = WallAnchor(vec3<f32>(0.0f), vec3<f32>(0.0f));
+    for (var axis = 0u; axis < 3u; axis++) {
+        let s = two_sum(frame.origin[axis], anchor[axis]);
+        out.p[axis] = s.x;
+        out.p_lo[axis] = s.y;
+    }
+    return out;
 }
 
 fn wall_overlap_at(i: u32, point: vec3<f32>, point_lo: vec3<f32>, normal: vec3<f32>) -> f32 {
-    let x = wall_relative(split_of(i), point, point_lo);
-    return wall_overlap(x, vec3<f32>(0.0f), normal, params.radius);
+    return wall_overlap_split(split_of(i), point, point_lo, normal);
 }
 
 // The step added to the offset as a double-f32 with whole voxels carried to the index

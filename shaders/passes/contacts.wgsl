@@ -155,7 +155,7 @@ fn contact_events(i: u32) {
         let delta = wall_overlap_at(i, w.point.xyz, w.point_lo.xyz, w.normal.xyz);
         if delta < -w.k.delta_c {
             let a = wall_n1[idx];
-            add_tally(i, TALLY_WALLS, wall_step_energy(i, w, a.n, wall_anchor[idx].xyz, a.twist));
+            add_tally(i, TALLY_WALLS, wall_step_energy(i, w, a.n, wall_anchor[idx], a.twist));
             let last = wall_base + wcount - 1u;
             wall_n1[idx] = wall_n1[last];
             wall_anchor[idx] = wall_anchor[last];
@@ -212,11 +212,12 @@ fn contact_events(i: u32) {
             break;
         }
         let n1 = -normal;
-        let anchor = anchor_out_of_frame(wall_frame(i, w).x - normal * r, w);
+        let frame = wall_frame(i, w);
+        let anchor = anchor_out_of_frame(frame.x - normal * r, frame);
         add_tally(i, TALLY_WALLS, -wall_step_energy(i, w, n1, anchor, 0.0lf));
         let idx = wall_base + wcount;
         wall_n1[idx] = contact_pointer(n1, 0.0lf);
-        wall_anchor[idx] = vec4<f64>(anchor, 0.0lf);
+        wall_anchor[idx] = anchor;
         wall_id[idx] = w_idx;
         wcount += 1u;
     }

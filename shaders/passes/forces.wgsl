@@ -65,7 +65,7 @@ fn contact_forces(idx: u32) {
     let n2 = load_pair_n2(idx).n;
     let centres = pair_centres(i, j);
     let it = pair_interaction(
-        centres.x1, centres.x2, velocity[i].xyz, velocity[j].xyz,
+        centres, velocity[i].xyz, velocity[j].xyz,
         stored_n1.n, n2, stored_n1.twist,
     );
     store_pair_result(idx, PairResult(it.f, it.fd, it.m1, it.m2));

@@ -53,8 +53,7 @@ fn kick(i: u32) {
         let idx = i * params.wall_slots + slot;
         let a = wall_n1[idx];
         let normal = wall_table[wall_id[idx]].normal.xyz;
-        let twist = a.twist + twist_increment(w, normal, dt);
-        wall_n1[idx] = turned_contact_pointer(a, turn, twist);
+        wall_n1[idx] = turned_contact_pointer(a, turn, twist_increment(w, normal, dt));
     }
 }
 
@@ -94,8 +93,9 @@ fn turn_pair_pointers(idx: u32) {
     let vj = velocity[j].xyz;
     // Contact normal at mid-step, x(n+½) = x(n) + v(n+½) dt/2.
     let nc_mid = vec_normalize((centres.x1 - centres.x2) + (vi - vj) * (0.5lf * dt));
-    let twist = a.twist + twist_increment(wi - wj, nc_mid, dt);
-    let p1 = turned_contact_pointer(a, wi * dt, twist);
+    let twist_step = twist_increment(wi - wj, nc_mid, dt);
+    let p1 = turned_contact_pointer(a, wi * dt, twist_step);
+    let twist = p1.twist;
     let p2 = turned_second_pointer(b, wj * dt);
     let n1 = p1.n;
     let n2 = p2.n;

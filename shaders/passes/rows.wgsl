@@ -35,11 +35,9 @@ fn monomer_energy(i: u32) -> array<f64, 4> {
     for (var slot = 0u; slot < pair_count[i]; slot++) {
         let idx = i * params.pair_slots + slot;
         let centres = pair_centres(i, pair_partner[idx]);
-        let x = centres.x1;
-        let y = centres.x2;
         let n1 = load_pair_n1(idx);
-        let total = pair_contact_potential(x, y, n1.n, load_pair_n2(idx).n, n1.twist);
-        let normal = jkr_potential_at_overlap((2.0lf * r - vec_length(x - y)) / k.delta0, k.f_c, k.delta0);
+        let total = pair_contact_potential(centres, n1.n, load_pair_n2(idx).n, n1.twist);
+        let normal = jkr_potential_at_overlap(centres.delta / k.delta0, k.f_c, k.delta0);
         e[2] = e[2] + normal;
         e[3] = e[3] + (total - normal);
     }
@@ -47,11 +45,10 @@ fn monomer_energy(i: u32) -> array<f64, 4> {
         let idx = i * params.wall_slots + slot;
         let frame = wall_frame(i, wall_table[wall_id[idx]]);
         let wall = frame.wall;
-        let x = frame.x;
         let n1 = wall_n1[idx];
-        let anchor = anchor_into_frame(wall_anchor[idx].xyz, wall_table[wall_id[idx]]);
-        let total = wall_contact_potential(x, wall, n1.n, anchor, n1.twist);
-        let delta = wall_overlap(x, wall.point.xyz, wall.normal.xyz, r);
+        let anchor = anchor_into_frame(wall_anchor[idx], frame);
+        let total = wall_contact_potential(frame, n1.n, anchor, n1.twist);
+        let delta = frame.delta;
         let normal = jkr_potential_at_overlap(delta / wall.k.delta0, wall.k.f_c, wall.k.delta0);
         e[2] = e[2] + normal;
         e[3] = e[3] + (total - normal);

@@ -1,6 +1,7 @@
 //! Host encodings of values the WGSL modules take as structs (their layouts are held to naga's
 //! reading of the WGSL by the tests below), and the numbers the WGSL declares, generated.
 
+use super::shader::Precision;
 use crate::material::ContactConstants;
 use crate::model::Damping;
 use bytemuck::{Pod, Zeroable};
@@ -106,9 +107,29 @@ pub struct GpuParams {
     pub poisson: f64,
     pub damping_value: f64,
     pub pair: GpuConstants,
+    /// The mixed precision's low parts of the radius and (2r)², and (2r)² (zero in the exact
+    /// precision: unread there).
+    pub radius_lo: f64,
+    pub two_r_squared: f64,
+    pub two_r_squared_lo: f64,
 }
 
-const _: () = assert!(std::mem::size_of::<GpuParams>() == 208);
+const _: () = assert!(std::mem::size_of::<GpuParams>() == 232);
+
+impl GpuParams {
+    /// In the mixed precision, the radius's and (2r)²'s double-f32 parts: each f32 and what it
+    /// leaves out (the host's f64 arithmetic; 4r² is exact in f64 to 2⁻⁵³).
+    pub fn with_split_radius(mut self, precision: Precision) -> Self {
+        if precision == Precision::Mixed {
+            let r = self.radius;
+            self.radius_lo = r - f64::from(r as f32);
+            let square = 4.0 * r * r;
+            self.two_r_squared = square;
+            self.two_r_squared_lo = square - f64::from(square as f32);
+        }
+        self
+    }
+}
 
 /// The WGSL `Wall` struct of shaders/engine/bindings.wgsl (vectors as vec4, w unused).
 #[repr(C)]
@@ -229,7 +250,10 @@ mod tests {
                 e_star,
                 poisson,
                 damping_value,
-                pair
+                pair,
+                radius_lo,
+                two_r_squared,
+                two_r_squared_lo
             )
         );
         let a = wgsl_struct(&module, "MonomerAux");

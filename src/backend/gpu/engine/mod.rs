@@ -248,7 +248,11 @@ impl GpuEngine {
             poisson: law.poisson,
             damping_value: damping.value,
             pair: GpuConstants::from(law.pair),
+            radius_lo: 0.0,
+            two_r_squared: 0.0,
+            two_r_squared_lo: 0.0,
         }
+        .with_split_radius(self.precision)
     }
 
     /// The full state (for energy and momentum reports, checkpoints, snapshots and tests). The
