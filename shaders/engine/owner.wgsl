@@ -16,49 +16,47 @@ fn apply_inelastic_limits(i: u32) {
         let centres = pair_centres(i, j);
         let x1 = centres.x1;
         let x2 = centres.x2;
-        let stored_n1 = load_pair_n1(idx);
-        var n1 = stored_n1.n;
-        let stored_n2 = load_pair_n2(idx);
-        var n2 = stored_n2.n;
-        var twist = stored_n1.twist;
+        // The records as stored (engine/pointers.wgsl): the corrections work on them.
+        var p1 = load_pair_n1(idx);
+        var p2 = load_pair_n2(idx);
 
         let nc = vec_normalize(x1 - x2);
         // The step energy of the contact as it stands: a correction's "after" is the next
         // one's "before" (`current` in the CPU twin).
         var current = 0.0lf;
         var known = false;
-        let rolled = rolling_correction_of(stored_n1, stored_n2, k.reduced_radius, k.xi_crit);
+        let rolled = rolling_correction_of(p1, p2, k.reduced_radius, k.xi_crit);
         if rolled.changed {
-            let before = pair_step_energy(i, j, n1, n2, twist);
-            n1 = rolled.n1;
-            n2 = rolled.n2;
-            current = pair_step_energy(i, j, n1, n2, twist);
+            let before = pair_step_energy(i, j, p1.n, p2.n, p1.twist);
+            p1 = rolled.p1;
+            p2 = rolled.p2;
+            current = pair_step_energy(i, j, p1.n, p2.n, p1.twist);
             known = true;
             add_tally(i, TALLY_ROLLING, before - current);
         }
-        let slid = sliding_correction(n1, n2, nc, r, r, k.zeta_crit);
+        let slid = sliding_correction_of(p1, p2, nc, r, k.zeta_crit);
         if slid.changed {
             var before = current;
             if !known {
-                before = pair_step_energy(i, j, n1, n2, twist);
+                before = pair_step_energy(i, j, p1.n, p2.n, p1.twist);
             }
-            n1 = slid.n1;
-            n2 = slid.n2;
-            current = pair_step_energy(i, j, n1, n2, twist);
+            p1 = slid.p1;
+            p2 = slid.p2;
+            current = pair_step_energy(i, j, p1.n, p2.n, p1.twist);
             known = true;
             add_tally(i, TALLY_SLIDING, before - current);
         }
-        let twisted = twisting_correction(twist, k.phi_crit);
+        let twisted = twisting_correction(p1.twist, k.phi_crit);
         if twisted.changed {
             var before = current;
             if !known {
-                before = pair_step_energy(i, j, n1, n2, twist);
+                before = pair_step_energy(i, j, p1.n, p2.n, p1.twist);
             }
-            twist = twisted.twist;
-            add_tally(i, TALLY_TWISTING, before - pair_step_energy(i, j, n1, n2, twist));
+            p1 = with_twist(p1, twisted.twist);
+            add_tally(i, TALLY_TWISTING, before - pair_step_energy(i, j, p1.n, p2.n, p1.twist));
         }
-        store_pair_n1(idx, replaced_contact_pointer(stored_n1, n1, twist));
-        store_pair_n2(idx, replaced_second_pointer(stored_n2, n2));
+        store_pair_n1(idx, p1);
+        store_pair_n2(idx, p2);
     }
 }
 
