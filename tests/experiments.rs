@@ -32,6 +32,9 @@ fn unidirectional_run_uses_the_projected_cross_section() {
     // plates approach at 2 m/s.
     assert!(rows[0].area < run.footprint.area());
     assert!((rows[0].wall_gap - last.wall_gap - 200.0 * 6000.0 * 0.3e-9).abs() < 1e-9);
+    // The cross-section the run reports on request is the one of its last row (same state),
+    // the projected area computed independently above.
+    assert_eq!(run.area().unwrap(), area);
 }
 
 #[test]

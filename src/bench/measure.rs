@@ -6,8 +6,9 @@
 
 use super::options::{Options, Threads, LAMMPS_RANKS};
 use crate::backend::cpu::{CpuEngine, PASS_NAMES};
-use crate::backend::gpu::context::{GpuContext, Requirements};
+use crate::backend::gpu::context::{GpuContext, Requirements, ShaderF64};
 use crate::backend::gpu::engine::GpuEngine;
+use crate::backend::gpu::shader::Precision;
 use crate::state::State;
 use std::time::Instant;
 
@@ -21,7 +22,7 @@ pub enum SideKind {
     Cpu(Threads),
     /// The CPU engine with the monomers in the sample's order (no space-filling order).
     CpuSampleOrder(Threads),
-    Gpu,
+    Gpu(Precision),
     Lammps {
         ranks: usize,
     },
@@ -44,7 +45,7 @@ impl Side {
             SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) => {
                 PASS_NAMES.iter().map(|s| s.to_string()).collect()
             }
-            SideKind::Gpu => GpuEngine::passes()
+            SideKind::Gpu(_) => GpuEngine::passes()
                 .iter()
                 .map(|k| k.entry().to_string())
                 .collect(),
@@ -78,11 +79,15 @@ pub fn sides(options: &Options) -> Vec<Side> {
             label: format!("cpu, all {} threads, sample order", Threads::All.resolve()),
         });
     }
-    if options.gpu {
+    for &precision in &options.gpu {
+        let (key, label) = match precision {
+            Precision::Exact => ("gpu".into(), "gpu".into()),
+            Precision::Mixed => ("gpu_mixed".into(), "gpu, mixed precision".into()),
+        };
         sides.push(Side {
-            kind: SideKind::Gpu,
-            key: "gpu".into(),
-            label: "gpu".into(),
+            kind: SideKind::Gpu(precision),
+            key,
+            label,
         });
     }
     if options.lammps {
@@ -140,9 +145,22 @@ pub fn time_cpu(
     Ok(clock.elapsed().as_secs_f64())
 }
 
-/// A GPU engine continuing from `state` on a fresh device context.
-pub fn gpu_engine(state: &State) -> Result<GpuEngine, String> {
-    let ctx = GpuContext::new(&Requirements::default()).map_err(|e| e.to_string())?;
+/// The device requirements of a GPU side: f64 for the exact precision, refused for the mixed
+/// one (so it runs at f32 even where the adapter has f64).
+pub fn gpu_requirements(precision: Precision) -> Requirements {
+    let shader_f64 = match precision {
+        Precision::Exact => ShaderF64::Required,
+        Precision::Mixed => ShaderF64::Refused,
+    };
+    Requirements {
+        shader_f64,
+        ..Requirements::default()
+    }
+}
+
+/// A GPU engine at `precision` continuing from `state` on a fresh device context.
+pub fn gpu_engine(state: &State, precision: Precision) -> Result<GpuEngine, String> {
+    let ctx = GpuContext::new(&gpu_requirements(precision)).map_err(|e| e.to_string())?;
     GpuEngine::resume(ctx, state).map_err(|e| e.to_string())
 }
 

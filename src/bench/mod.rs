@@ -21,8 +21,9 @@ pub mod table;
 pub use options::{Options, SampleState, Threads};
 
 use crate::backend::cpu::CpuEngine;
-use crate::backend::gpu::context::{GpuContext, Requirements};
+use crate::backend::gpu::context::GpuContext;
 use crate::backend::gpu::engine::GpuEngine;
+use crate::backend::gpu::shader::Precision;
 use crate::config::Config;
 use crate::experiment::setup::{build_sample, build_walls, stored_monomers};
 use crate::output::atomic::write_atomic;
@@ -117,8 +118,20 @@ struct Setup {
     pools: Vec<Option<rayon::ThreadPool>>,
     /// All threads, for the warm-up.
     warm_pool: rayon::ThreadPool,
-    gpu: Result<(), String>,
+    /// Per GPU side's precision: whether a device for it could be made.
+    gpu: Vec<(Precision, Result<(), String>)>,
     lammps: Result<Lammps, String>,
+}
+
+impl Setup {
+    fn gpu_ready(&self, precision: Precision) -> &Result<(), String> {
+        &self
+            .gpu
+            .iter()
+            .find(|(p, _)| *p == precision)
+            .expect("a GPU side is made for each precision asked for")
+            .1
+    }
 }
 
 fn pool(threads: usize) -> Result<rayon::ThreadPool, String> {
@@ -144,8 +157,9 @@ pub fn run_bench(options: &Options, progress: &dyn Fn(&str)) -> Result<Report, S
         lammps_version: None,
         notes: Vec::new(),
     };
-    let gpu = if options.gpu {
-        match GpuContext::new(&Requirements::default()) {
+    let mut gpu = Vec::new();
+    for &precision in &options.gpu {
+        let ready = match GpuContext::new(&measure::gpu_requirements(precision)) {
             Ok(ctx) => {
                 let s = ctx.summary();
                 report.gpu_adapter = Some(format!(
@@ -154,16 +168,16 @@ pub fn run_bench(options: &Options, progress: &dyn Fn(&str)) -> Result<Report, S
                 ));
                 Ok(())
             }
-            Err(e) => Err(format!("gpu not measured: no adapter with f64: {e}")),
-        }
-    } else {
-        Err(String::new())
-    };
-    if let Err(note) = &gpu {
-        if options.gpu {
+            Err(e) => Err(format!(
+                "gpu ({} precision) not measured: {e}",
+                precision.name()
+            )),
+        };
+        if let Err(note) = &ready {
             progress(note);
             report.notes.push(note.clone());
         }
+        gpu.push((precision, ready));
     }
     let lammps = if options.lammps {
         Lammps::find()
@@ -291,10 +305,10 @@ fn measure_size(
                 let mut e = start_of(&side.kind).clone();
                 probe(|k| measure::time_cpu(pool, &mut e, k), at_least)
             }
-            SideKind::Gpu => match &setup.gpu {
+            SideKind::Gpu(precision) => match setup.gpu_ready(precision) {
                 Err(why) => Err(why.clone()),
-                Ok(()) => measure::gpu_engine(&start.state).and_then(|mut e| {
-                    r.memory_mib = Some(e.sizes.total_bytes() as f64 / f64::from(1u32 << 20));
+                Ok(()) => measure::gpu_engine(&start.state, precision).and_then(|mut e| {
+                    r.memory_mib = Some(e.device_bytes() as f64 / f64::from(1u32 << 20));
                     probe(|k| measure::time_gpu(&mut e, k), at_least)
                 }),
             },
@@ -322,7 +336,7 @@ fn measure_size(
                 let note = format!("N = {n}: {} not measured: {why}", side.label);
                 progress(&note);
                 r.skipped = Some(why);
-                if !matches!(side.kind, SideKind::Gpu if setup.gpu.is_err())
+                if !matches!(side.kind, SideKind::Gpu(p) if setup.gpu_ready(p).is_err())
                     && !matches!(side.kind, SideKind::Lammps { .. } if setup.lammps.is_err())
                 {
                     report.notes.push(note);
@@ -350,11 +364,16 @@ fn measure_size(
                     }
                     timed
                 }
-                SideKind::Gpu => measure::gpu_engine(&start.state).and_then(|mut e| {
-                    let s = measure::time_gpu(&mut e, steps)?;
-                    gpu_engine = Some(e);
-                    Ok(s)
-                }),
+                SideKind::Gpu(precision) => {
+                    measure::gpu_engine(&start.state, precision).and_then(|mut e| {
+                        let s = measure::time_gpu(&mut e, steps)?;
+                        // Pass times are those of the exact precision's engine.
+                        if precision == Precision::Exact {
+                            gpu_engine = Some(e);
+                        }
+                        Ok(s)
+                    })
+                }
                 SideKind::Lammps { ranks } => {
                     let lmp = setup.lammps.as_ref().expect("checked by the probe");
                     let tag = format!("round{round}.r{ranks}");
@@ -403,7 +422,9 @@ fn measure_size(
         r.passes.iter_mut().for_each(|p| *p /= rounds);
     }
     if let (Some(i), Some(e)) = (
-        sides.iter().position(|s| s.kind == SideKind::Gpu),
+        sides
+            .iter()
+            .position(|s| s.kind == SideKind::Gpu(Precision::Exact)),
         gpu_engine.as_mut(),
     ) {
         // Timestamps around every dispatch of 20 ordinary steps, where the device has them.

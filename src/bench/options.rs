@@ -3,6 +3,7 @@
 //! the command before anything runs, with a message naming the argument, the value and the
 //! allowed range.
 
+use crate::backend::gpu::shader::Precision;
 use std::path::PathBuf;
 
 /// Smallest and largest N: below 10 an RBD sample has hardly any contacts to measure; above
@@ -74,7 +75,8 @@ pub struct Options {
     pub rounds: usize,
     /// CPU engine thread counts, in the order a round runs them (empty: no CPU columns).
     pub threads: Vec<Threads>,
-    pub gpu: bool,
+    /// GPU sides, by precision (`--backends gpu,gpu-mixed`; empty: no GPU columns).
+    pub gpu: Vec<Precision>,
     pub lammps: bool,
     /// Also time the CPU engine on all threads with the monomers in the sample's order, to
     /// show what the space-filling storage order gains.
@@ -94,7 +96,7 @@ impl Default for Options {
             seconds: 20.0,
             rounds: 3,
             threads: vec![Threads::Count(1), Threads::All],
-            gpu: true,
+            gpu: vec![Precision::Exact],
             lammps: false,
             sample_order: false,
             samples: vec![SampleState::Fresh],
@@ -241,21 +243,23 @@ fn parse_threads(text: &str) -> Result<Vec<Threads>, String> {
     Ok(threads)
 }
 
-/// (cpu, gpu) from `--backends`.
-fn parse_backends(text: &str) -> Result<(bool, bool), String> {
-    let (mut cpu, mut gpu) = (false, false);
+/// (cpu, GPU precisions) from `--backends`.
+fn parse_backends(text: &str) -> Result<(bool, Vec<Precision>), String> {
+    let (mut cpu, mut gpu) = (false, Vec::new());
     for item in list(text) {
         match item {
             "cpu" => cpu = true,
-            "gpu" => gpu = true,
+            "gpu" => gpu.push(Precision::Exact),
+            "gpu-mixed" => gpu.push(Precision::Mixed),
             other => {
                 return Err(format!(
-                    "--backends {text}: `{other}` is not an engine; allowed cpu, gpu or both \
-                     (cpu,gpu)"
+                    "--backends {text}: `{other}` is not an engine; allowed cpu, gpu (exact \
+                     precision) and gpu-mixed, comma-separated"
                 ))
             }
         }
     }
+    gpu.dedup();
     Ok((cpu, gpu))
 }
 
@@ -275,7 +279,9 @@ mod tests {
             o.threads,
             [Threads::All, Threads::Count(1), Threads::Count(4)]
         );
-        assert!(o.gpu);
+        assert_eq!(o.gpu, [Precision::Exact]);
+        let both = parse("1000", "1", "cpu,gpu-mixed,gpu").unwrap();
+        assert_eq!(both.gpu, [Precision::Mixed, Precision::Exact]);
         assert!(parse("200", "1", "gpu").unwrap().threads.is_empty());
     }
 

@@ -4,6 +4,7 @@ use super::measure::{Side, SideKind};
 use super::options::Threads;
 use super::stats::{loglog_slope, median, range, round_ratios};
 use super::{Report, SampleState, SideResult, SizeResult};
+use crate::backend::gpu::shader::Precision;
 use std::fmt::Write;
 
 /// A ratio of two sides' rates, taken per round.
@@ -22,7 +23,8 @@ pub fn ratio_specs(sides: &[Side]) -> Vec<RatioSpec> {
     let find = |kind: SideKind| sides.iter().position(|s| s.kind == kind);
     let all = find(SideKind::Cpu(Threads::All));
     let one = find(SideKind::Cpu(Threads::Count(1)));
-    let gpu = find(SideKind::Gpu);
+    let gpu = find(SideKind::Gpu(Precision::Exact));
+    let mixed = find(SideKind::Gpu(Precision::Mixed));
     let mut specs = Vec::new();
     let mut add = |num: Option<usize>, den: Option<usize>| {
         if let (Some(a), Some(b)) = (num, den) {
@@ -37,6 +39,7 @@ pub fn ratio_specs(sides: &[Side]) -> Vec<RatioSpec> {
     add(all, find(SideKind::Lammps { ranks: 2 }));
     add(one, find(SideKind::Lammps { ranks: 1 }));
     add(gpu, all.or(one));
+    add(mixed, gpu.or(all).or(one));
     add(all, find(SideKind::CpuSampleOrder(Threads::All)));
     specs
 }
@@ -137,7 +140,7 @@ pub fn markdown(report: &Report) -> String {
     head.push("peak RSS MiB (process)".into());
     for side in &report.sides {
         match side.kind {
-            SideKind::Gpu => head.push("gpu buffers MiB".into()),
+            SideKind::Gpu(_) => head.push(format!("{} buffers MiB", side.label)),
             SideKind::Lammps { .. } => head.push(format!("{} MiB/rank", side.label)),
             SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) => {}
         }
@@ -211,7 +214,7 @@ pub fn markdown(report: &Report) -> String {
             side.label,
             match side.kind {
                 SideKind::Lammps { .. } => "section of LAMMPS's timing breakdown (mean over ranks)",
-                SideKind::Gpu => "kernel (timestamps around every dispatch of 20 steps)",
+                SideKind::Gpu(_) => "kernel (timestamps around every dispatch of 20 steps)",
                 SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) => "pass",
             }
         ));
@@ -264,7 +267,7 @@ pub fn csv_header(report: &Report) -> Vec<String> {
     h.push("peak_rss_mib".into());
     for side in &report.sides {
         match side.kind {
-            SideKind::Gpu => h.push("gpu_buffers_mib".into()),
+            SideKind::Gpu(_) => h.push(format!("{}_buffers_mib", side.key)),
             SideKind::Lammps { .. } => h.push(format!("{}_mib_per_rank", side.key)),
             SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) => {}
         }

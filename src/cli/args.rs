@@ -164,7 +164,8 @@ pub(super) enum Command {
         /// CPU engine thread counts, comma-separated: numbers or `all`.
         #[arg(long, default_value = "1,all")]
         threads: String,
-        /// Engines: cpu, gpu or both; gpu is skipped with a note where no adapter has f64.
+        /// Engines: cpu, gpu (exact precision; skipped with a note where no adapter has f64)
+        /// and gpu-mixed (the mixed precision, on any adapter), comma-separated.
         #[arg(long, default_value = "cpu,gpu")]
         backends: String,
         /// Also export the sample and an input deck for LAMMPS and, where `lmp` is on PATH,

@@ -343,6 +343,15 @@ impl Buffers {
         }
     }
 
+    /// Bytes of all buffers as allocated (a buffer declared under several bindings once).
+    pub fn device_bytes(&self) -> u64 {
+        Binding::ALL
+            .iter()
+            .filter(|b| b.shares_buffer_of().is_none())
+            .map(|&b| self.get(b).size())
+            .sum()
+    }
+
     pub fn get(&self, binding: Binding) -> &wgpu::Buffer {
         &self.bindings[binding as usize]
     }

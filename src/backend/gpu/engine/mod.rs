@@ -281,6 +281,12 @@ impl GpuEngine {
         self.snapshot().energy()
     }
 
+    /// Device memory the engine's buffers take [B], as allocated: the layout of its precision
+    /// (`Sizes::total_bytes` counts the exact one), the scratch buffers as grown so far.
+    pub fn device_bytes(&self) -> u64 {
+        self.buffers.device_bytes()
+    }
+
     /// Bytes read back from the device since the engine was made: the small block of every
     /// submission, the row measures and any full reads.
     pub fn bytes_read_back(&self) -> u64 {
