@@ -169,3 +169,19 @@ pub fn gpu_report(config: &Config, n: usize) -> Vec<String> {
     }
     lines
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_precision_asks_for_the_device_that_gives_it() {
+        let asked = |text: &str| text.parse::<PrecisionChoice>().unwrap().requirements();
+        assert_eq!(asked("exact").shader_f64, ShaderF64::Required);
+        assert_eq!(asked("mixed").shader_f64, ShaderF64::Refused);
+        // auto: f64 where offered, any adapter otherwise (context::unfit takes it).
+        assert_eq!(asked("auto").shader_f64, ShaderF64::Optional);
+        let error = "f32".parse::<PrecisionChoice>().unwrap_err();
+        assert!(error.contains("`f32`") && error.contains("exact, mixed or auto"), "{error}");
+    }
+}

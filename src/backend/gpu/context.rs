@@ -443,6 +443,7 @@ mod tests {
         };
         assert!(!ctx.shader_f64);
         assert!(!ctx.device.features().contains(wgpu::Features::SHADER_F64));
+        assert_eq!(ctx.precision(), Precision::Mixed);
     }
 
     #[test]
