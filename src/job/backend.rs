@@ -182,6 +182,9 @@ mod tests {
         // auto: f64 where offered, any adapter otherwise (context::unfit takes it).
         assert_eq!(asked("auto").shader_f64, ShaderF64::Optional);
         let error = "f32".parse::<PrecisionChoice>().unwrap_err();
-        assert!(error.contains("`f32`") && error.contains("exact, mixed or auto"), "{error}");
+        assert!(
+            error.contains("`f32`") && error.contains("exact, mixed or auto"),
+            "{error}"
+        );
     }
 }

@@ -183,11 +183,11 @@ fn layouter(module: &Module) -> Layouter {
 
 /// A scalar of one layout: its path (member names and component indices), offset, and whether
 /// it is an f64.
-type Scalar8 = (String, u32, bool);
+type ScalarAt = (String, u32, bool);
 
 /// The exact layout's scalars paired with the mixed layout's by path; every scalar of both
 /// must find its place.
-fn paired(b: Binding, exact: &[Scalar8], mixed: &[Scalar8]) -> Vec<Leaf> {
+fn paired(b: Binding, exact: &[ScalarAt], mixed: &[ScalarAt]) -> Vec<Leaf> {
     let find = |path: &str| mixed.iter().find(|(p, _, _)| p == path);
     let low_part_path = |path: &str| match path.split_once('/') {
         Some((member, rest)) => format!("{member}_lo/{rest}"),
@@ -222,7 +222,7 @@ fn paired(b: Binding, exact: &[Scalar8], mixed: &[Scalar8]) -> Vec<Leaf> {
 }
 
 /// The stride of binding `b`'s element and its scalars.
-fn element_leaves(module: &Module, layouts: &Layouter, b: Binding) -> (u64, Vec<Scalar8>) {
+fn element_leaves(module: &Module, layouts: &Layouter, b: Binding) -> (u64, Vec<ScalarAt>) {
     let variable = module
         .global_variables
         .iter()
@@ -239,7 +239,7 @@ fn element_leaves(module: &Module, layouts: &Layouter, b: Binding) -> (u64, Vec<
 }
 
 /// Every scalar of type `ty` at `base`, in declaration order, its path under `path`.
-fn scalars(module: &Module, ty: Handle<Type>, path: &str, base: u32, out: &mut Vec<Scalar8>) {
+fn scalars(module: &Module, ty: Handle<Type>, path: &str, base: u32, out: &mut Vec<ScalarAt>) {
     let wide = |s: Scalar| {
         assert!(s.width == 4 || (s.kind == ScalarKind::Float && s.width == 8));
         s.width == 8

@@ -5,15 +5,12 @@
 use super::GpuEngine;
 use crate::backend::gpu::interface::Binding;
 use crate::backend::gpu::shader::Precision;
-use crate::backend::gpu::transcode::Transcoder;
+use crate::backend::gpu::transcode::{ElementLayout, Transcoder};
 use std::borrow::Cow;
 
 impl GpuEngine {
     /// The device's layout of `binding` where it differs from the host's.
-    fn transcoding(
-        &self,
-        binding: Binding,
-    ) -> Option<&'static crate::backend::gpu::transcode::ElementLayout> {
+    fn transcoding(&self, binding: Binding) -> Option<&'static ElementLayout> {
         (self.precision == Precision::Mixed).then(|| Transcoder::engine().element(binding))
     }
 
