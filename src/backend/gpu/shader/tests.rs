@@ -35,6 +35,7 @@ fn every_shader_file_is_registered() {
     assert_eq!(paths(MODEL), wgsl_files("shaders/model"));
     assert_eq!(paths(ENGINE), wgsl_files("shaders/engine"));
     assert_eq!(paths(MIXED), wgsl_files("shaders/mixed"));
+    assert_eq!(paths(MIXED_ENGINE), wgsl_files("shaders/mixed_engine"));
     assert_eq!(paths(PASSES), wgsl_files("shaders/passes"));
     assert_eq!(paths(PROBES), wgsl_files("shaders/probes"));
     assert!(
@@ -50,6 +51,47 @@ fn every_pass_and_module_validates() {
         if let Err(e) = assembled.validate() {
             panic!("{e}");
         }
+    }
+}
+
+/// Names declared at the start of a line as `<prefix>name` up to `(`, `{` or a space.
+fn declared_names(text: &str, prefix: &str) -> BTreeSet<String> {
+    text.lines()
+        .filter_map(|l| l.strip_prefix(prefix))
+        .map(|rest| {
+            rest.split(|c: char| c == '(' || c == '{' || c == ' ')
+                .next()
+                .unwrap_or("")
+                .to_string()
+        })
+        .collect()
+}
+
+/// The mixed precision's engine modules stand in for the exact ones of the same name: the same
+/// functions and structs, and they validate without f64 where the passes use them.
+#[test]
+fn mixed_engine_modules_offer_what_the_exact_ones_do() {
+    for mixed in MIXED_ENGINE {
+        let exact = ENGINE
+            .iter()
+            .find(|m| m.name() == mixed.name())
+            .unwrap_or_else(|| panic!("{}: no engine module of that name", mixed.path));
+        for prefix in ["fn ", "struct "] {
+            let (e, m) = (
+                declared_names(exact.text, prefix),
+                declared_names(mixed.text, prefix),
+            );
+            assert!(
+                e.is_subset(&m),
+                "{}: {prefix}{:?} missing",
+                mixed.path,
+                e.difference(&m).collect::<Vec<_>>()
+            );
+        }
+        let assembled = assemble(mixed, &modules_at(Precision::Mixed))
+            .unwrap()
+            .with_precision(Precision::Mixed);
+        assembled.validate().unwrap_or_else(|e| panic!("{e}"));
     }
 }
 
