@@ -58,12 +58,7 @@ fn every_pass_and_module_validates() {
 fn declared_names(text: &str, prefix: &str) -> BTreeSet<String> {
     text.lines()
         .filter_map(|l| l.strip_prefix(prefix))
-        .map(|rest| {
-            rest.split(|c: char| c == '(' || c == '{' || c == ' ')
-                .next()
-                .unwrap_or("")
-                .to_string()
-        })
+        .map(|rest| rest.split(['(', '{', ' ']).next().unwrap_or("").to_string())
         .collect()
 }
 
