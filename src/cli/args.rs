@@ -212,6 +212,9 @@ pub(super) enum Command {
         /// Engine of each case: cpu, gpu or auto (as for `run`).
         #[arg(long, default_value = "auto")]
         backend: Backend,
+        /// Arithmetic of each case's GPU engine: exact, mixed or auto (as for `run`).
+        #[arg(long, default_value = "auto")]
+        precision: crate::job::PrecisionChoice,
         /// Do not run: write DIR/sweep.sbatch, a Slurm job array with one case per task, and
         /// DIR/cases.csv.
         #[arg(long)]

@@ -11,7 +11,8 @@ use crate::experiment::collision::analytic_sticking_speed;
 use crate::experiment::compression::RunError;
 use crate::experiment::setup::build_sample;
 use crate::job::{
-    gpu_report, resume_job, run_job, Backend, JobOptions, JobSummary, Progress, DEFAULT_CONFIG,
+    gpu_report, resume_job, run_job, Backend, JobOptions, JobSummary, PrecisionChoice, Progress,
+    DEFAULT_CONFIG,
 };
 use crate::material::{
     chokshi_sticking_velocity, normal_period, rolling_energy_quarter_turn, sliding_period, Derived,
@@ -252,6 +253,7 @@ pub(super) struct SweepRequest {
     pub(super) jobs: Option<usize>,
     pub(super) threads: Option<usize>,
     pub(super) backend: Backend,
+    pub(super) precision: PrecisionChoice,
     pub(super) slurm: bool,
     pub(super) case: Option<usize>,
     pub(super) time: Option<String>,
@@ -316,6 +318,7 @@ pub(super) fn sweep(request: SweepRequest) -> Result<(), String> {
             cases: cases.len(),
             threads,
             backend,
+            precision: request.precision.as_str(),
             settings: &settings,
             job_name: format!("dustdem-{stem}"),
         }
@@ -357,6 +360,7 @@ pub(super) fn sweep(request: SweepRequest) -> Result<(), String> {
         jobs,
         threads,
         backend: backend.to_string(),
+        precision: request.precision.as_str().to_string(),
         exe,
     };
     let flag = interrupt_flag();

@@ -68,6 +68,15 @@ impl std::str::FromStr for PrecisionChoice {
 }
 
 impl PrecisionChoice {
+    /// The word `--precision` takes for this choice.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            PrecisionChoice::Exact => "exact",
+            PrecisionChoice::Mixed => "mixed",
+            PrecisionChoice::Auto => "auto",
+        }
+    }
+
     /// The device requirements that give this precision (`GpuContext::precision`).
     pub fn requirements(self) -> Requirements {
         let shader_f64 = match self {

@@ -191,6 +191,8 @@ pub struct RunSettings {
     pub threads: usize,
     /// `--backend` of each case's run.
     pub backend: String,
+    /// `--precision` of each case's run.
+    pub precision: String,
     /// The binary each case runs (this one).
     pub exe: PathBuf,
 }
@@ -436,6 +438,8 @@ fn launch(
     args.extend([
         "--backend".into(),
         settings.backend.clone(),
+        "--precision".into(),
+        settings.precision.clone(),
         "--threads".into(),
         settings.threads.to_string(),
         "--quiet".into(),

@@ -18,6 +18,7 @@ pub struct Script<'a> {
     pub cases: usize,
     pub threads: usize,
     pub backend: &'a str,
+    pub precision: &'a str,
     pub settings: &'a SlurmSettings,
     pub job_name: String,
 }
@@ -98,12 +99,14 @@ impl Script<'_> {
     /// requeue: a resubmission resumes it.
     fn body(&self, lead: u64) -> Vec<String> {
         let run = format!(
-            "{} sweep {} --out {} --case \"$SLURM_ARRAY_TASK_ID\" --threads {} --backend {}",
+            "{} sweep {} --out {} --case \"$SLURM_ARRAY_TASK_ID\" --threads {} --backend {} \
+             --precision {}",
             sh_quote(&self.exe.display().to_string()),
             sh_quote(&self.sweep_file.display().to_string()),
             sh_quote(&self.out_dir.display().to_string()),
             self.threads,
-            self.backend
+            self.backend,
+            self.precision
         );
         if lead == 0 && !self.settings.requeue {
             return vec!["set -u".into(), format!("exec {run}")];
@@ -178,6 +181,7 @@ mod tests {
             cases: 12,
             threads: 2,
             backend: "cpu",
+            precision: "mixed",
             settings: &settings,
             job_name: "dustdem-s".into(),
         };
@@ -188,7 +192,7 @@ mod tests {
         assert!(text.contains("#SBATCH --mem=2000M\n"), "{text}");
         assert!(text.contains(
             "\n'/opt/dustdem' sweep '/data/s.toml' --out '/data/runs/s' --case \
-             \"$SLURM_ARRAY_TASK_ID\" --threads 2 --backend cpu &\n"
+             \"$SLURM_ARRAY_TASK_ID\" --threads 2 --backend cpu --precision mixed &\n"
         ));
         // The warning 300 s ahead, requeue on the resumable status only after the warning.
         for line in [

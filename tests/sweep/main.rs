@@ -52,3 +52,36 @@ fn sweep_files(dir: &Path) -> PathBuf {
     std::fs::write(&sweep, SWEEP).unwrap();
     sweep
 }
+
+/// `--precision` reaches each case's run: the case's log names the command it ran, and the
+/// case finishes on the GPU engine in the mixed precision (where a device without f64 can be
+/// made: lavapipe).
+#[test]
+fn each_case_runs_in_the_precision_the_sweep_was_given() {
+    use dustdem::backend::gpu::context::{context_for_tests_with, ShaderF64};
+    if context_for_tests_with(ShaderF64::Refused).is_none() {
+        return;
+    }
+    let scratch = Scratch::new("sweep_precision");
+    let sweep = sweep_files(scratch.path());
+    let out = scratch.path().join("out");
+    let result = run(&[
+        "sweep",
+        sweep.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--backend",
+        "gpu",
+        "--precision",
+        "mixed",
+        "--case",
+        "0",
+    ]);
+    assert!(result.status.success(), "{}", text(&result.stderr));
+    let log = std::fs::read_to_string(out.join(NAMES[0]).join("sweep.log")).unwrap();
+    assert!(log.contains(" --backend gpu --precision mixed "), "{log}");
+    assert!(log.contains("filling factor reached phi_stop"), "{log}");
+    let refused = run(&["sweep", sweep.to_str().unwrap(), "--precision", "half"]);
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(text(&refused.stderr).contains("expected exact, mixed or auto"));
+}
