@@ -82,7 +82,11 @@ class Run:
     def to_dataframe(self, table: str = ...) -> Any:
         """The curve (or "profiles") as a pandas DataFrame."""
     def resume(
-        self, backend: str = ..., threads: Optional[int] = ..., progress: Optional[_Progress] = ...
+        self,
+        backend: str = ...,
+        threads: Optional[int] = ...,
+        progress: Optional[_Progress] = ...,
+        precision: str = ...,
     ) -> Run:
         """Continues this run from its checkpoint."""
 
@@ -93,6 +97,7 @@ def run(
     threads: Optional[int] = ...,
     progress: Optional[_Progress] = ...,
     force: bool = ...,
+    precision: str = ...,
 ) -> Run:
     """Runs a compression as `dustdem run` does; Ctrl-C stops it at a checkpoint."""
 
@@ -101,6 +106,7 @@ def resume(
     backend: str = ...,
     threads: Optional[int] = ...,
     progress: Optional[_Progress] = ...,
+    precision: str = ...,
 ) -> Run:
     """Continues the run that wrote `checkpoint` (or a run directory), as `dustdem resume`."""
 
@@ -208,6 +214,7 @@ def sweep(
     backend: str = ...,
     exe: Optional[_PathLike] = ...,
     progress: Optional[Callable[[str], Any]] = ...,
+    precision: str = ...,
 ) -> SweepResult:
     """Runs a sweep as `dustdem sweep FILE` and collects sweep.csv."""
 

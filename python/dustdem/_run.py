@@ -100,21 +100,24 @@ class Run:
         return pd.DataFrame(getattr(self, table))
 
     def resume(self, backend: str = "cpu", threads: Optional[int] = None,
-               progress: Optional[Progress] = None) -> "Run":
+               progress: Optional[Progress] = None, precision: str = "auto") -> "Run":
         """Continues this run from its checkpoint (see :func:`resume`)."""
         if self.checkpoint is None:
             raise FileNotFoundError(f"{self.out}: no checkpoint.bin to resume from")
-        return resume(self.checkpoint, backend=backend, threads=threads, progress=progress)
+        return resume(self.checkpoint, backend=backend, threads=threads, progress=progress,
+                      precision=precision)
 
 
 def run(config: ConfigLike = None, out: Optional[PathLike] = None, backend: str = "cpu",
         threads: Optional[int] = None, progress: Optional[Progress] = None,
-        force: bool = False) -> Run:
+        force: bool = False, precision: str = "auto") -> Run:
     """Runs a compression (or collision) as `dustdem run` does and returns its results.
 
     `config` is a path, a TOML string, a dict of sections or None (the built-in quick run).
     `out` defaults to the config's `[output] dir`; an existing run there is refused unless
-    `force`. `backend` is "cpu", "gpu" or "auto"; `threads` sizes the CPU engine's pool.
+    `force`. `backend` is "cpu", "gpu" or "auto"; `threads` sizes the CPU engine's pool;
+    `precision` is the GPU engine's arithmetic: "exact" (f64), "mixed" (f32 with split
+    centres, for adapters without f64) or "auto" (exact where the adapter has f64).
     `progress` is called once per row with a dict (step, time_s, phi, p_top_pa, p_bottom_pa,
     contacts, wall_contacts, fraction, steps_per_second) and with a string for each notice
     (backend chosen, checkpoints written).
@@ -129,21 +132,23 @@ def run(config: ConfigLike = None, out: Optional[PathLike] = None, backend: str 
         text=text, path=path, name=name,
         out=None if out is None else os.fspath(out),
         backend=backend, threads=threads, force=force, progress=progress,
+        precision=precision,
     )
     return Run(summary["out_dir"], summary["lines"], summary["files"])
 
 
 def resume(checkpoint: PathLike, backend: str = "cpu", threads: Optional[int] = None,
-           progress: Optional[Progress] = None) -> Run:
+           progress: Optional[Progress] = None, precision: str = "auto") -> Run:
     """Continues the run that wrote `checkpoint` (its checkpoint.bin) in its own directory, as
     `dustdem resume` does: on the same backend the result is bit for bit the uninterrupted
-    run's. A run directory may be given instead of the file. Progress and Ctrl-C as in
-    :func:`run`."""
+    run's. A run directory may be given instead of the file. Progress, Ctrl-C and
+    `precision` as in :func:`run`."""
     path = Path(checkpoint)
     if path.is_dir():
         path = path / "checkpoint.bin"
     summary = _dustdem.resume_checkpoint(
-        os.fspath(path), backend=backend, threads=threads, progress=progress
+        os.fspath(path), backend=backend, threads=threads, progress=progress,
+        precision=precision,
     )
     return Run(summary["out_dir"], summary["lines"], summary["files"])
 

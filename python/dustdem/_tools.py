@@ -150,12 +150,14 @@ class SweepResult:
 def sweep(path: Union[PathLike, Mapping[str, Any]], out: Optional[PathLike] = None,
           jobs: int = 1, threads: Optional[int] = None, backend: str = "cpu",
           exe: Optional[PathLike] = None,
-          progress: Optional[Callable[[str], Any]] = None) -> SweepResult:
+          progress: Optional[Callable[[str], Any]] = None,
+          precision: str = "auto") -> SweepResult:
     """Runs a sweep as `dustdem sweep FILE` does: every case (finished ones skipped, stopped
     ones resumed) as a run of the command-line program (`exe`, default :func:`find_cli`),
     `jobs` at once, then collects sweep.csv. A dict is written to `out/sweep.toml` first
     (its `base` path is then relative to that directory: give it absolute). `progress`
-    receives the sweep's lines. Ctrl-C stops the running cases at a checkpoint, then raises
+    receives the sweep's lines; `backend` and `precision` are each case's (as for
+    :func:`run`). Ctrl-C stops the running cases at a checkpoint, then raises
     KeyboardInterrupt; calling again continues.
     """
     if isinstance(path, Mapping):
@@ -169,6 +171,7 @@ def sweep(path: Union[PathLike, Mapping[str, Any]], out: Optional[PathLike] = No
         os.fspath(path), os.fspath(exe or find_cli()),
         out=None if out is None else os.fspath(out),
         jobs=jobs, threads=threads, backend=backend, progress=progress,
+        precision=precision,
     )
     with open(r["table"], newline="") as f:
         rows = list(csv.DictReader(line for line in f if not line.startswith("#")))

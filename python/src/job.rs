@@ -10,7 +10,8 @@ use crate::errors::{check_count, OrConfigError, OrRaise};
 use dustdem::config::Config;
 use dustdem::experiment::compression::RunError;
 use dustdem::job::{
-    resume_job, run_job, Backend, JobOptions, JobSummary, PrivateRuntimeDir, Progress,
+    resume_job, run_job, Backend, JobOptions, JobSummary, PrecisionChoice, PrivateRuntimeDir,
+    Progress,
 };
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -41,7 +42,7 @@ pub fn check_config(text: Option<&str>, path: Option<&str>, name: &str) -> PyRes
 /// Runs a config into `out` (default: the config's `[output] dir`); returns the job summary as
 /// a dict (`out_dir`, `files`, `lines`).
 #[pyfunction]
-#[pyo3(signature = (text=None, path=None, name="<config>", out=None, backend="cpu", threads=None, force=false, progress=None))]
+#[pyo3(signature = (text=None, path=None, name="<config>", out=None, backend="cpu", threads=None, force=false, progress=None, precision="auto"))]
 pub fn run_config(
     py: Python<'_>,
     text: Option<&str>,
@@ -52,25 +53,28 @@ pub fn run_config(
     threads: Option<usize>,
     force: bool,
     progress: Option<PyObject>,
+    precision: &str,
 ) -> PyResult<PyObject> {
     let config = load(py, text, path, name)?;
     let out_dir = out.unwrap_or_else(|| config.output.dir.clone());
-    drive(py, backend, threads, progress, |options| {
+    let engine = (backend, precision);
+    drive(py, engine, threads, progress, |options| {
         run_job(&config, &out_dir, force, options)
     })
 }
 
 /// Continues the run a checkpoint belongs to, in its directory; returns the job summary.
 #[pyfunction]
-#[pyo3(signature = (checkpoint, backend="cpu", threads=None, progress=None))]
+#[pyo3(signature = (checkpoint, backend="cpu", threads=None, progress=None, precision="auto"))]
 pub fn resume_checkpoint(
     py: Python<'_>,
     checkpoint: PathBuf,
     backend: &str,
     threads: Option<usize>,
     progress: Option<PyObject>,
+    precision: &str,
 ) -> PyResult<PyObject> {
-    drive(py, backend, threads, progress, |options| {
+    drive(py, (backend, precision), threads, progress, |options| {
         resume_job(&checkpoint, options)
     })
 }
@@ -118,6 +122,11 @@ fn parse_backend(backend: &str) -> PyResult<Backend> {
     backend.parse::<Backend>().or_value_error()
 }
 
+/// `precision`: "exact", "mixed" or "auto" (ValueError otherwise).
+pub fn parse_precision(precision: &str) -> PyResult<PrecisionChoice> {
+    precision.parse::<PrecisionChoice>().or_value_error()
+}
+
 /// A thread pool of `threads` for the CPU engine (none: rayon's global pool).
 pub fn thread_pool(threads: Option<usize>) -> PyResult<Option<rayon::ThreadPool>> {
     let Some(t) = threads else {
@@ -132,15 +141,17 @@ pub fn thread_pool(threads: Option<usize>) -> PyResult<Option<rayon::ThreadPool>
         .or_value_error()
 }
 
-/// Runs `job` without the GIL, with the progress and stop hooks, and converts its outcome.
+/// Runs `job` without the GIL on the engine (backend, GPU precision), with the progress and
+/// stop hooks, and converts its outcome.
 fn drive(
     py: Python<'_>,
-    backend: &str,
+    (backend, precision): (&str, &str),
     threads: Option<usize>,
     progress: Option<PyObject>,
     job: impl FnOnce(&mut JobOptions) -> Result<JobSummary, RunError> + Send,
 ) -> PyResult<PyObject> {
     let backend = parse_backend(backend)?;
+    let precision = parse_precision(precision)?;
     let pool = thread_pool(threads)?;
     let hooks = Hooks {
         progress,
@@ -159,7 +170,7 @@ fn drive(
             progress: &mut on_row,
             interrupt: Some(&hooks.stop),
             backend,
-            precision: dustdem::job::PrecisionChoice::Auto,
+            precision,
             notice: &mut on_notice,
         };
         job(&mut options)

@@ -226,7 +226,8 @@ fn say_line(progress: &Option<PyObject>, line: &str, error: &std::sync::Mutex<Op
 /// each as a child process of the command-line program `exe`, `jobs` at once; then writes the
 /// sweep table. SIGINT/SIGTERM stop it as they stop `dustdem sweep`.
 #[pyfunction]
-#[pyo3(signature = (path, exe, out=None, jobs=1, threads=None, backend="cpu", progress=None))]
+#[pyo3(signature = (path, exe, out=None, jobs=1, threads=None, backend="cpu", precision="auto", progress=None))]
+#[allow(clippy::too_many_arguments)]
 pub fn sweep(
     py: Python<'_>,
     path: PathBuf,
@@ -235,8 +236,10 @@ pub fn sweep(
     jobs: usize,
     threads: Option<usize>,
     backend: &str,
+    precision: &str,
     progress: Option<PyObject>,
 ) -> PyResult<PyObject> {
+    let precision = crate::job::parse_precision(precision)?;
     let spec = Sweep::load(&path).or_config_error(py)?;
     let out_dir = std::path::absolute(spec.out_dir(out.as_deref()))?;
     let cases = spec.cases(&out_dir).or_config_error(py)?;
@@ -247,6 +250,7 @@ pub fn sweep(
         jobs,
         threads,
         backend: backend.to_string(),
+        precision: precision.as_str().to_string(),
         exe,
     };
     let _lock = lock_dir(&out_dir).or_run_error()?;
