@@ -406,3 +406,44 @@ fn the_mean_lead_is_the_mean_height_of_the_front_below_the_wall() {
     assert!((s.front.v - 10.0).abs() < 1e-9, "{s:?}");
     assert!((s.wall.unwrap().v - 9.0).abs() < 1e-9, "{s:?}");
 }
+
+#[test]
+fn mass_balance_reads_the_layer_only_while_the_front_is_in_the_middle_half() {
+    // A layer of φ 0.6 while its front is in the top quarter, 0.45 in the middle half and 0.3
+    // in the bottom quarter: the middle half alone gives 0.45 and v_p = v_wall / (1 − 0.15 /
+    // 0.45) = 1.5 v_wall, also for a sample standing 20 µm above z = 0.
+    let (v_wall, v_p) = (5.0, 7.5);
+    let init = vec![0.15; SLABS];
+    let mut first = profile(0.0, init.clone(), Some(H));
+    first.phi_mean = 0.15;
+    let mut run = vec![first];
+    for k in 1..=45 {
+        let t = k as f64 * 0.02 * H / v_p;
+        let (wall, edge) = (H - v_wall * t, H - v_p * t);
+        let x = edge / (SLABS as f64 * D);
+        let layer = if x > 0.75 {
+            0.6
+        } else if x < 0.25 {
+            0.3
+        } else {
+            0.45
+        };
+        let n = (wall / D).ceil() as usize;
+        let phi = (0..n)
+            .map(|j| {
+                let (lo, hi) = (j as f64 * D, (j + 1) as f64 * D);
+                0.15 * overlap(lo, hi, 0.0, edge) + layer * overlap(lo, hi, edge, wall)
+            })
+            .collect();
+        run.push(profile(t, phi, Some(wall)));
+    }
+    let opt = FrontOptions::default();
+    for r in [run.clone(), moved(&run, 20e-6, 100.0)] {
+        let (layer, v) = mass_balance_front(&r, &opt, v_wall).unwrap();
+        assert!((layer - 0.45).abs() < 1e-9, "{layer}");
+        assert!((v - v_p).abs() < 1e-6, "{v}");
+    }
+    // A layer no denser than the sample's start gives no speed (v_p would be infinite).
+    run[0].phi_mean = mass_balance_front(&run, &opt, v_wall).unwrap().0;
+    assert_eq!(mass_balance_front(&run, &opt, v_wall), None);
+}
