@@ -299,4 +299,35 @@ mod tests {
         let paper = speed_laws(&paper_points(&[1.0, 2.5, 5.0, 7.5, 10.0, 15.0, 20.0, 25.0]));
         assert!(paper.delta.fitted().is_some() && paper.pm_dynamic.fitted().is_some());
     }
+
+    #[test]
+    fn seed_errors_weight_the_fit_only_when_every_speed_has_a_positive_one() {
+        let with =
+            |e: f64| -> Vec<SpeedValue> { vec![[1.0, 2.0, 0.1, 0.3, 0.01], [2.0, 5.0, e, 0.2, e]] };
+        assert_eq!(sigma(&with(0.2), 2), Some(vec![0.1, 0.2]));
+        for e in [0.0, -0.1, f64::NAN, f64::INFINITY] {
+            assert_eq!(sigma(&with(e), 2), None, "{e}");
+            assert_eq!(sigma(&with(e), 4), None, "{e}");
+        }
+    }
+
+    #[test]
+    fn a_converged_fit_with_finite_values_but_an_error_not_finite_is_not_a_value() {
+        let fit = |value: f64, error: f64| LawFit {
+            law: [1.0, value],
+            std_err: [0.1, error],
+            correlation: Vec::new(),
+            free: vec!["a", "b"],
+            chi2_per_dof: 1.0,
+            dof: 2,
+            iterations: 3,
+            converged: true,
+        };
+        let problem = |f: &LawFit<[f64; 2]>| problem_of(f, &f.law, &f.std_err);
+        assert_eq!(problem(&fit(2.0, 0.1)), None);
+        for (value, error) in [(2.0, f64::NAN), (2.0, f64::INFINITY), (f64::NAN, 0.1)] {
+            let why = problem(&fit(value, error)).unwrap();
+            assert!(why.contains("not finite"), "{value} ± {error}: {why}");
+        }
+    }
 }
