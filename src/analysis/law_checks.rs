@@ -325,6 +325,14 @@ mod tests {
         };
         let problem = |f: &LawFit<[f64; 2]>| problem_of(f, &f.law, &f.std_err);
         assert_eq!(problem(&fit(2.0, 0.1)), None);
+        // Loose means beyond ten times max(|value|, 1): at exactly ten it is still a value.
+        assert_eq!(problem(&fit(0.5, 10.0)), None);
+        assert!(problem(&fit(0.5, 10.000001))
+            .unwrap()
+            .contains("do not constrain"));
+        assert!(problem(&fit(-3.0, 30.000001))
+            .unwrap()
+            .contains("do not constrain"));
         for (value, error) in [(2.0, f64::NAN), (2.0, f64::INFINITY), (f64::NAN, 0.1)] {
             let why = problem(&fit(value, error)).unwrap();
             assert!(why.contains("not finite"), "{value} ± {error}: {why}");
