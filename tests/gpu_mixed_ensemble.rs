@@ -36,7 +36,7 @@ struct Run {
     closure: f64,
 }
 
-fn config(kind: &str, seed: u64) -> Config {
+fn config(kind: &str, seed: u64, dt_ns: f64) -> Config {
     let (footprint, phi_stop, p_stop) = match kind {
         "omni" => ("box", 0.7, 1e6),
         _ => ("cylinder", 0.5, 1e7),
@@ -44,14 +44,14 @@ fn config(kind: &str, seed: u64) -> Config {
     let text = format!(
         "[sample]\nsource = \"rbd\"\nmonomers = 1000\nfootprint = \"{footprint}\"\nseed = {seed}\n\
          [experiment]\nkind = \"{kind}\"\nwall_speed_m_s = 1.0\nphi_stop = {phi_stop}\n\
-         pressure_stop_pa = {p_stop}\n[integration]\ndt_ns = 0.3\n"
+         pressure_stop_pa = {p_stop}\n[integration]\ndt_ns = {dt_ns}\n"
     );
     Config::parse(&text, "ensemble").unwrap()
 }
 
-fn run(kind: &str, seed: u64, shader_f64: ShaderF64) -> Run {
+fn run(kind: &str, seed: u64, shader_f64: ShaderF64, dt_ns: f64) -> Run {
     let ctx = context_for_tests_with(shader_f64).unwrap();
-    let config = config(kind, seed);
+    let config = config(kind, seed, dt_ns);
     let mut compression = Compression::with_engine(&config, |law, dt, m, w, ps, ws| {
         Ok(GpuEngine::new(ctx, law, dt, m, w, ps, ws)?)
     })
@@ -109,8 +109,8 @@ fn compare(kind: &str, seeds: usize) {
     let mut exact = Vec::new();
     let mut mixed = Vec::new();
     for seed in 1..=seeds as u64 {
-        exact.push(run(kind, seed, ShaderF64::Required));
-        mixed.push(run(kind, seed, ShaderF64::Refused));
+        exact.push(run(kind, seed, ShaderF64::Required, 0.3));
+        mixed.push(run(kind, seed, ShaderF64::Refused, 0.3));
     }
     let all: Vec<&Run> = exact.iter().chain(&mixed).collect();
     // (φ, mean difference, exact sd, rms same-seed difference)
@@ -194,5 +194,20 @@ fn omni_ensemble_in_the_mixed_precision_lies_within_the_exact_scatter() {
 fn uni_ensemble_in_the_mixed_precision_lies_within_the_exact_scatter() {
     if available() {
         compare("uni", seeds());
+    }
+}
+
+/// The energy balance of a whole 1000-monomer compression closes to 10⁻⁴ of the wall work in
+/// the mixed precision once the time step's own residual is below that: at 0.3 ns the f64
+/// engine leaves 5.7·10⁻⁴ of the work unaccounted (seed 1, omni, 1 m/s to 1 MPa), at 0.15 ns
+/// 6.2·10⁻⁵ and at 0.075 ns 5.2·10⁻⁶ (measured on the CPU engine: the leap-frog's, falling
+/// about as dt³). At 0.15 ns the mixed run must close to 10⁻⁴.
+#[test]
+#[ignore = "about 4 minutes on lavapipe"]
+fn a_whole_mixed_compression_closes_its_energy_balance_to_1e_4_of_the_work() {
+    if available() {
+        let closure = run("omni", 1, ShaderF64::Refused, 0.15).closure;
+        eprintln!("mixed, 0.15 ns: energy balance {closure:.2e} of the wall work");
+        assert!(closure <= 1e-4, "{closure:e}");
     }
 }

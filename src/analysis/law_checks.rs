@@ -338,4 +338,12 @@ mod tests {
             assert!(why.contains("not finite"), "{value} ± {error}: {why}");
         }
     }
+
+    #[test]
+    fn negative_means_below_zero_by_more_than_two_standard_errors() {
+        assert!(negative(-2.5, 1.0));
+        assert!(!negative(-2.0, 1.0));
+        assert!(!negative(-1.0, 1.0));
+        assert!(!negative(0.5, 0.0));
+    }
 }
