@@ -260,8 +260,8 @@ mod tests {
             "{:?}",
             laws.pm_dynamic
         );
-        // Δ = (v − 0.9999)^−1 + 0.1: the shift runs to its bound a > −min v, and the offset
-        // goes negative to make up for it; either way no value is reported.
+        // Δ = (v − 0.9999)^−1 + 0.1: the shift runs towards its bound a > −min v, and the
+        // offset goes negative to make up for it; either way no value is reported.
         let bound: Vec<SpeedValue> = [1.0, 1.5, 2.5, 5.0, 10.0]
             .iter()
             .map(|&v| [v, 1.0, 0.1, 1.0 / (v - 0.9999) + 0.1, 1e-3])
@@ -269,6 +269,18 @@ mod tests {
         let laws = speed_laws(&bound);
         assert!(
             matches!(&laws.delta, Law::Unconstrained(w) if w.contains("bound") || w.contains("c = ")),
+            "{:?}",
+            laws.delta
+        );
+        // Δ = 0.05 (v − 0.9999)^−1 + 0.3: the shift lands on its bound (a = −0.9994 for
+        // −min v = −1) with a negative offset; the bound is named first, as it says more.
+        let on_bound: Vec<SpeedValue> = [1.0, 1.5, 2.5, 5.0, 10.0]
+            .iter()
+            .map(|&v| [v, 1.0, 0.1, 0.05 / (v - 0.9999) + 0.3, 1e-3])
+            .collect();
+        let laws = speed_laws(&on_bound);
+        assert!(
+            matches!(&laws.delta, Law::Unconstrained(w) if w.contains("on its bound")),
             "{:?}",
             laws.delta
         );
@@ -345,5 +357,18 @@ mod tests {
         assert!(!negative(-2.0, 1.0));
         assert!(!negative(-1.0, 1.0));
         assert!(!negative(0.5, 0.0));
+    }
+
+    #[test]
+    fn the_fewest_speeds_a_law_takes_give_a_value() {
+        // Eq. 15 (a, b, c) and Eq. 17 from four speeds, Eq. 16 (b = 2) from three.
+        let four = speed_laws(&paper_points(&[2.5, 5.0, 10.0, 20.0]));
+        assert!(four.pm_dynamic.fitted().is_some(), "{:?}", four.pm_dynamic);
+        assert!(four.delta.fitted().is_some(), "{:?}", four.delta);
+        let three = speed_laws(&paper_points(&[2.5, 5.0, 10.0]));
+        assert!(three.pm_square.fitted().is_some(), "{:?}", three.pm_square);
+        assert!(matches!(&three.delta, Law::Unconstrained(w) if w.contains("at least 4")));
+        let two = speed_laws(&paper_points(&[2.5, 5.0]));
+        assert!(matches!(&two.pm_square, Law::Unconstrained(w) if w.contains("at least 3")));
     }
 }
