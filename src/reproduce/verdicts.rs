@@ -308,14 +308,31 @@ pub fn law_claims(laws: &Laws, conditions: &str) -> Vec<Claim> {
     out
 }
 
+/// Where "low pressure" ends for the claims that a model is too soft [Pa]: the paper finds the
+/// calibrated model agreeing with Güttler et al. below 100 kPa, the unmodified one "for low
+/// pressures ... significantly above".
+const LOW_PRESSURE: f64 = 1e5;
+
+/// Seizinger et al. (2012), Sect. 5.1: "for low pressures the [unmodified model's] curve lies
+/// significantly above" the measured one. Read at the listed pressures (P, φ ours, φ
+/// reference) below [`LOW_PRESSURE`]: ours above the reference at each, and by more than the
+/// tolerance at one at least. (At the lowest pressure alone both curves sit near the
+/// samples' starting φ, which says little about stiffness.)
+fn softer_at_low_pressure(pairs: &[(f64, f64, f64)]) -> bool {
+    let low: Vec<_> = pairs.iter().filter(|(p, _, _)| *p < LOW_PRESSURE).collect();
+    !low.is_empty()
+        && low.iter().all(|(_, a, b)| a > b)
+        && low.iter().any(|(_, a, b)| a - b > PHI_TOL)
+}
+
 /// φ of a fixed-φ mean curve against a reference curve at pressure `p`.
 fn phi_vs_reference(s: &SpeedResult, reference: &Eq13, p: f64) -> Option<(f64, f64)> {
     Some((phi_at_pressure(&s.mean_curve, p)?, reference.phi(p)))
 }
 
-/// The quasi-static or unidirectional comparison of one model with its reference below
-/// `p_max`: `too_soft` claims φ above the reference by more than the tolerance at the lowest
-/// pressure listed, otherwise agreement at every listed pressure.
+/// The quasi-static or unidirectional comparison of one model with its reference at the listed
+/// pressures: `too_soft` claims the model softer at low pressure ([`softer_at_low_pressure`]),
+/// otherwise agreement within the tolerance at every listed pressure.
 pub fn curve_claim(
     claim: &str,
     paper: &str,
@@ -339,7 +356,7 @@ pub fn curve_claim(
         .map(|(p, a, b)| format!("φ({p:.0e} Pa) = {a:.3} vs {b:.3}"))
         .collect();
     let agrees = if too_soft {
-        pairs[0].1 - pairs[0].2 > PHI_TOL
+        softer_at_low_pressure(&pairs)
     } else {
         pairs.iter().all(|(_, a, b)| (a - b).abs() <= PHI_TOL)
     };
@@ -353,7 +370,11 @@ pub fn curve_claim(
             if s.seeds.len() == 1 { "" } else { "s" }
         ),
         ratio: None,
-        tolerance: format!("Δφ {} {PHI_TOL}", if too_soft { ">" } else { "≤" }),
+        tolerance: if too_soft {
+            format!("φ above at every P < {LOW_PRESSURE:.0e} Pa, by > {PHI_TOL} at one")
+        } else {
+            format!("Δφ ≤ {PHI_TOL}")
+        },
         verdict: if agrees {
             Verdict::Agrees
         } else {
@@ -419,6 +440,35 @@ mod tests {
         assert_eq!(crossing(&m, 6.98), None);
         let v = crossing(&[(2.5, spread(4.0)), (5.0, spread(8.0))], 6.98).unwrap();
         assert!((v - (2.5 + 2.5 * 2.98 / 4.0)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn softer_at_low_pressure_means_above_everywhere_below_100_kpa_and_clearly_above_once() {
+        // Above by 0.019, 0.040, 0.037 (the paper tier's unmodified omni model): softer.
+        let omni = [
+            (1e2, 0.177, 0.158),
+            (1e3, 0.234, 0.194),
+            (1e4, 0.360, 0.323),
+            (1e5, 0.500, 0.494),
+        ];
+        assert!(softer_at_low_pressure(&omni));
+        // Above, but never by more than the tolerance: not shown.
+        assert!(!softer_at_low_pressure(&[
+            (1e2, 0.17, 0.158),
+            (1e3, 0.22, 0.194)
+        ]));
+        // Clearly above at one pressure, below at another: not softer.
+        assert!(!softer_at_low_pressure(&[
+            (1e2, 0.20, 0.158),
+            (1e3, 0.19, 0.194)
+        ]));
+        // From 100 kPa up nothing counts, above or below; no pressure, no claim.
+        assert!(!softer_at_low_pressure(&[(1e5, 0.60, 0.494)]));
+        assert!(softer_at_low_pressure(&[
+            (1e4, 0.40, 0.323),
+            (1e5, 0.45, 0.494)
+        ]));
+        assert!(!softer_at_low_pressure(&[]));
     }
 
     #[test]
