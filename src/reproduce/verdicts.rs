@@ -452,12 +452,17 @@ mod tests {
             (1e5, 0.500, 0.494),
         ];
         assert!(softer_at_low_pressure(&omni));
-        // Above, but never by more than the tolerance: not shown.
+        // Above, but never by more than the tolerance (at most exactly it): not shown.
+        assert!(!softer_at_low_pressure(&[(1e3, 0.03, 0.0)]));
         assert!(!softer_at_low_pressure(&[
             (1e2, 0.17, 0.158),
             (1e3, 0.22, 0.194)
         ]));
-        // Clearly above at one pressure, below at another: not softer.
+        // Clearly above at one pressure, on the reference or below at another: not softer.
+        assert!(!softer_at_low_pressure(&[
+            (1e2, 0.158, 0.158),
+            (1e3, 0.30, 0.194)
+        ]));
         assert!(!softer_at_low_pressure(&[
             (1e2, 0.20, 0.158),
             (1e3, 0.19, 0.194)
