@@ -131,6 +131,12 @@ fn power_law(p: &[SpeedValue], fixed_b: Option<f64>) -> Law<PowerLaw> {
     )
 }
 
+/// Whether Eq. 17's shift `a` sits on its bound a > −min v: v_min + a within a thousandth of
+/// v_min (of 1 mm/s, for speeds below that), where (v + a)^b is a pole fitted to a point.
+fn shift_on_bound(v_min: f64, a: f64) -> bool {
+    v_min + a < 1e-3 * v_min.max(1e-3)
+}
+
 fn delta_law(p: &[SpeedValue]) -> Law<ShiftedPowerLaw> {
     if p.len() < 4 {
         return Law::Unconstrained(format!("{} speeds, at least 4 needed", p.len()));
@@ -143,7 +149,7 @@ fn delta_law(p: &[SpeedValue]) -> Law<ShiftedPowerLaw> {
         fit,
         |l| vec![l.a, l.b, l.c],
         |f| {
-            if v_min + f.law.a < 1e-3 * v_min.max(1e-3) {
+            if shift_on_bound(v_min, f.law.a) {
                 Some(format!(
                     "on its bound: a = {:.5} at −min v = {:.5}",
                     f.law.a, -v_min
@@ -370,5 +376,20 @@ mod tests {
         assert!(matches!(&three.delta, Law::Unconstrained(w) if w.contains("at least 4")));
         let two = speed_laws(&paper_points(&[2.5, 5.0]));
         assert!(matches!(&two.pm_square, Law::Unconstrained(w) if w.contains("at least 3")));
+    }
+
+    #[test]
+    fn the_shift_is_on_its_bound_within_a_thousandth_of_the_slowest_speed() {
+        assert!(shift_on_bound(1.0, -0.9995));
+        assert!(!shift_on_bound(1.0, -0.998));
+        // The margin scales with the slowest speed: 2 mm/s above −2.5 m/s is on the bound, 0.1
+        // m/s is not, and a positive shift never is.
+        assert!(shift_on_bound(2.5, -2.498));
+        assert!(!shift_on_bound(2.5, -2.4));
+        assert!(!shift_on_bound(2.5, -0.1));
+        assert!(!shift_on_bound(2.5, 0.5));
+        // Below 1 mm/s the margin stays 1 µm/s.
+        assert!(shift_on_bound(1e-4, -1e-4 + 5e-7));
+        assert!(!shift_on_bound(1e-4, -1e-4 + 2e-6));
     }
 }
