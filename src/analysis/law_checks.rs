@@ -391,5 +391,7 @@ mod tests {
         // Below 1 mm/s the margin stays 1 µm/s.
         assert!(shift_on_bound(1e-4, -1e-4 + 5e-7));
         assert!(!shift_on_bound(1e-4, -1e-4 + 2e-6));
+        // Exactly the margin away is off the bound (v_min = 0: the margin 1e-3 · 1e-3 exactly).
+        assert!(!shift_on_bound(0.0, 1e-3 * 1e-3));
     }
 }
