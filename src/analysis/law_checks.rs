@@ -394,4 +394,71 @@ mod tests {
         // Exactly the margin away is off the bound (v_min = 0: the margin 1e-3 · 1e-3 exactly).
         assert!(!shift_on_bound(0.0, 1e-3 * 1e-3));
     }
+
+    /// p_m at `speeds` from p_m = a v² + b v + c [kPa] with a 5 % error and a ±3 % wobble
+    /// (so that the residuals, which scale the errors, are not zero).
+    fn slow_points(a: f64, b: f64, c: f64, speeds: &[f64]) -> Vec<SpeedValue> {
+        speeds
+            .iter()
+            .enumerate()
+            .map(|(k, &v)| {
+                let pm = (a * v * v + b * v + c) * if k % 2 == 0 { 1.03 } else { 0.97 };
+                [v, pm, 0.05 * pm, 0.3, 0.01]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn v_crit_needs_four_slow_speeds_and_a_minimum() {
+        let four = speed_laws(&slow_points(18.3, -33.7, 16.7, &[0.1, 0.25, 0.5, 0.75]));
+        assert!(four.v_crit.is_ok(), "{:?}", four.v_crit);
+        let three = speed_laws(&slow_points(18.3, -33.7, 16.7, &[0.1, 0.5, 0.75]));
+        assert!(matches!(&three.v_crit, Err(w) if w.contains("at least 4")));
+        // p_m falling ever faster with v (a < 0): no minimum, no v_crit.
+        let concave = speed_laws(&slow_points(-10.0, 2.0, 20.0, &[0.1, 0.25, 0.5, 0.75, 1.0]));
+        assert!(concave.pm_slow.fitted().is_some());
+        assert!(
+            matches!(&concave.v_crit, Err(w) if w.contains("no minimum")),
+            "{:?}",
+            concave.v_crit
+        );
+    }
+
+    #[test]
+    fn v_crit_error_is_the_fit_covariance_carried_through_minus_b_over_2a() {
+        // Independent of the hand-written derivatives: the gradient of −b/(2a) by central
+        // differences, contracted with the covariance of (a, b) built from the fit's errors
+        // and correlation.
+        let laws = speed_laws(&slow_points(
+            18.3,
+            -33.7,
+            16.7,
+            &[0.1, 0.25, 0.5, 0.75, 1.0],
+        ));
+        let f = laws.pm_slow.fitted().unwrap();
+        let (_, err) = laws.v_crit.unwrap();
+        let (a, b) = (f.law.a, f.law.b);
+        let g = |a: f64, b: f64| -b / (2.0 * a);
+        let (ha, hb) = (1e-6 * a.abs(), 1e-6 * b.abs());
+        let grad = [
+            (g(a + ha, b) - g(a - ha, b)) / (2.0 * ha),
+            (g(a, b + hb) - g(a, b - hb)) / (2.0 * hb),
+        ];
+        let ia = f.free.iter().position(|n| *n == "a").unwrap();
+        let ib = f.free.iter().position(|n| *n == "b").unwrap();
+        let s = [f.std_err.a, f.std_err.b];
+        let rho = f.correlation[ia][ib];
+        assert!(
+            rho.abs() > 0.5,
+            "a and b of a quadratic are correlated: {rho}"
+        );
+        let var = (grad[0] * s[0]).powi(2)
+            + (grad[1] * s[1]).powi(2)
+            + 2.0 * rho * grad[0] * grad[1] * s[0] * s[1];
+        assert!(
+            (err - var.sqrt()).abs() < 1e-6 * err,
+            "{err} vs {}",
+            var.sqrt()
+        );
+    }
 }
