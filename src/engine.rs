@@ -44,6 +44,24 @@ pub enum EngineError {
 }
 
 impl EngineError {
+    /// The error with the step it happened at, where it names one that its pass did not know.
+    pub fn at_step(self, at: u64) -> Self {
+        match self {
+            EngineError::SlotOverflow {
+                kind,
+                monomer,
+                limit,
+                ..
+            } => EngineError::SlotOverflow {
+                kind,
+                step: at,
+                monomer,
+                limit,
+            },
+            other => other,
+        }
+    }
+
     /// A run-time guard fired: the state can still be read, and shows what went wrong.
     pub fn is_guard(&self) -> bool {
         matches!(

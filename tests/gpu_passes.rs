@@ -16,9 +16,10 @@
 mod common;
 mod gpu_support;
 
-// The modules live in tests/gpu_passes/ (loaded by path: this file stays the test target's
-// root, because src/backend/gpu/twins.rs reads it for the parity tests named in GPU_ONLY, which
-// are the ones kept here).
+// The modules live in tests/gpu_passes/ (loaded by path: src/backend/gpu/twins.rs reads this
+// file and by_pass.rs for the tests that hold each entry point to its twin).
+#[path = "gpu_passes/by_pass.rs"]
+mod by_pass;
 #[path = "gpu_passes/integrate_and_corrections.rs"]
 mod integrate_and_corrections;
 #[path = "gpu_passes/support.rs"]
@@ -26,14 +27,23 @@ mod support;
 #[path = "gpu_passes/whole_steps.rs"]
 mod whole_steps;
 
-use dustdem::backend::cpu::neighbours::NeighbourList;
-use dustdem::backend::cpu::workspace::Workspace;
-use dustdem::backend::cpu::{contacts, forces, walls};
+use dustdem::backend::cpu::CpuEngine;
 use dustdem::backend::gpu::kernels::Kernel;
 use dustdem::state::reduction as reduce;
-use dustdem::state::Dissipation;
 use glam::DVec3;
 use support::{assert_channel, crafted, exact, gpu_of, gpu_tally, tables_match, worst};
+
+/// Runs `passes` on the CPU engine holding `state` as an upload leaves the device (neighbour
+/// lists due, tally at zero) and returns it.
+fn cpu_after(state: &CpuEngine, passes: &[Kernel]) -> CpuEngine {
+    let mut cpu = CpuEngine::from_state(state.state.clone());
+    cpu.neighbours.rebuild_due = true;
+    cpu.state.tally = Default::default();
+    for &pass in passes {
+        cpu.run_pass(pass).unwrap();
+    }
+    cpu
+}
 
 #[test]
 fn contacts_match_their_cpu_twin() {
@@ -41,49 +51,15 @@ fn contacts_match_their_cpu_twin() {
     let Some(mut gpu) = gpu_of(&state) else {
         return;
     };
-    let mut cpu = state.state.clone();
-    let mut list = NeighbourList::new(2.0 * cpu.law.radius, 0.2 * cpu.law.radius);
-    list.refresh(&cpu.monomers.position);
-    let mut tally = Dissipation::default();
-    contacts::contacts(
-        &cpu.law,
-        cpu.dt,
-        &cpu.monomers,
-        &cpu.walls,
-        &list.pairs,
-        &list.starts,
-        &mut cpu.contacts,
-        &mut tally,
-    )
-    .unwrap();
-    // The contacts pass then applies the inelastic limits of the owners it lists, pair and
-    // wall contacts (on the CPU, the starts of forces and wall_forces).
-    for i in 0..cpu.monomers.len() {
-        for slot in 0..cpu.contacts.pair_count[i] as usize {
-            let c = &mut cpu.contacts.pair[i * cpu.contacts.pair_slots + slot];
-            forces::apply_inelastic_limits(&cpu.law, &cpu.monomers, cpu.dt, i, c, &mut tally);
-        }
-        for slot in 0..cpu.contacts.wall_count[i] as usize {
-            let c = &mut cpu.contacts.wall[i * cpu.contacts.wall_slots + slot];
-            let wall = &cpu.walls[c.wall as usize];
-            walls::apply_wall_inelastic_limits(
-                &cpu.law,
-                &cpu.monomers,
-                cpu.dt,
-                i,
-                wall,
-                c,
-                &mut tally,
-            );
-        }
-    }
-    gpu.clear_work_lists();
-    gpu.dispatch(&[
+    let passes = [
         Kernel::Neighbours,
         Kernel::NeighboursList,
         Kernel::ContactsScan,
         Kernel::Contacts,
-    ]);
+    ];
+    let cpu = cpu_after(&state, &passes);
+    gpu.clear_work_lists();
+    gpu.dispatch(&passes);
     let before = state.contacts.pair_contact_count();
     eprintln!(
         "contacts: {} pair contacts before, {} after; wall {} → {}",
@@ -94,6 +70,7 @@ fn contacts_match_their_cpu_twin() {
     );
     tables_match(&cpu.contacts, &gpu.contacts(), 0.0);
     let (g, _) = gpu_tally(&gpu);
+    let tally = cpu.tally;
     assert_channel("breaking", tally.breaking, g.breaking);
     assert_channel("forming", tally.forming, g.forming);
     assert_channel("walls (form, break, limits)", tally.walls, g.walls);
@@ -108,39 +85,22 @@ fn forces_and_walls_match_their_cpu_twins() {
     let Some(mut gpu) = gpu_of(&state) else {
         return;
     };
-    let mut cpu = state.state.clone();
-    let mut tally = Dissipation::default();
-    let nw = cpu.walls.len();
-    let (mut wall_force, mut wall_damping) = (vec![DVec3::ZERO; nw], vec![DVec3::ZERO; nw]);
-    let mut workspace = Workspace::default();
-    forces::forces(
-        &cpu.law,
-        cpu.dt,
-        &mut cpu.monomers,
-        &mut cpu.contacts,
-        &mut tally,
-        &mut workspace,
-    );
-    walls::wall_forces(
-        &cpu.law,
-        cpu.dt,
-        &cpu.walls,
-        &mut cpu.monomers,
-        &mut cpu.contacts,
-        &mut tally,
-        &mut wall_force,
-        &mut wall_damping,
-        &mut workspace,
-    );
-    gpu.clear_work_lists();
-    gpu.dispatch(&[
+    // The corrections and wall contacts without the events (the step runs them in the
+    // contacts pass), then the forces, the gather and the wall sums.
+    let passes = [
+        Kernel::Neighbours,
+        Kernel::NeighboursList,
         Kernel::ContactsScan,
         Kernel::ForcesCorrections,
         Kernel::Forces,
         Kernel::WallContacts,
         Kernel::WallForces,
         Kernel::ReduceWallsFinal,
-    ]);
+    ];
+    let cpu = cpu_after(&state, &passes);
+    gpu.clear_work_lists();
+    gpu.dispatch(&passes);
+    let tally = cpu.tally;
     // Per-monomer tallies before the read: reading the small block starts them afresh.
     let (g, _) = gpu_tally(&gpu);
     let reduced = gpu.refresh_diagnostics().unwrap().tally;
@@ -175,7 +135,7 @@ fn forces_and_walls_match_their_cpu_twins() {
     // Per-wall sums: both backends sum the per-slot forces in the blocks of 64 monomers of
     // `reduce_walls`, so the exact mode gives the same bits; the relaxed mode keeps the bound
     // it had before the CPU summed in that order.
-    for (a, b) in wall_force.iter().zip(gpu.wall_force()) {
+    for (a, b) in cpu.wall_force.iter().zip(gpu.wall_force()) {
         eprintln!("  wall force cpu {a:?} gpu {b:?}");
         assert!(*a != DVec3::ZERO);
         if exact {

@@ -282,3 +282,23 @@ pub fn wall_step_energy_at(
     let work = (f - fd).dot(m.v - wall.velocity) + torque.dot(m.w);
     wall_potential_with(law.radius, normal_potential, m.x, wall, c) + 0.5 * dt * work
 }
+
+/// Whether a pair contact needs any inelastic correction: the tests that open the corrections
+/// of `rolling_correction`, `sliding_correction` and `twisting_correction`, on the contact as
+/// stored (if rolling needs none, sliding is tested on the same pointers as there; if it does,
+/// the contact is corrected anyway). Twin of `beyond_limits` in shaders/engine/interaction.wgsl.
+pub fn beyond_limits(law: &ContactLaw, x1: DVec3, x2: DVec3, c: &PairContact) -> bool {
+    use std::cmp::Ordering::{Equal, Less};
+    let k = &law.pair;
+    let r = law.radius;
+    let nc = (x1 - x2).normalize();
+    // `!(x <= limit)`: a NaN displacement counts as beyond, as in the WGSL.
+    let beyond = |x: f64, limit: f64| !matches!(x.partial_cmp(&limit), Some(Less | Equal));
+    let rolls = beyond((c.n1 + c.n2).length() * k.reduced_radius, k.xi_crit);
+    let slides = beyond(
+        sliding::sliding_displacement(c.n1, c.n2, nc, r, r).length(),
+        k.zeta_crit,
+    );
+    let twists = c.twist.abs() > k.phi_crit;
+    rolls || slides || twists
+}

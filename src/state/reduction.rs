@@ -10,7 +10,6 @@
 
 use super::ContactTable;
 use glam::DVec3;
-use rayon::prelude::*;
 
 /// Consecutive monomers whose wall-contact forces one partial sum holds.
 pub const REDUCE_BLOCK: usize = 64;
@@ -22,27 +21,45 @@ pub const TALLY_STRIDE: usize = 8;
 
 /// Total force of each of `wall_count` walls, from the force of every wall-contact slot
 /// (`slot_force[i * wall_slots + s]`): sums over blocks of [`REDUCE_BLOCK`] consecutive
-/// monomers (`reduce_walls`), then the blocks in order (`reduce_walls_final`).
+/// monomers ([`reduce_walls_block`]), then the blocks in order ([`reduce_walls_final_from`]).
 pub fn reduce_walls(table: &ContactTable, slot_force: &[DVec3], wall_count: usize) -> Vec<DVec3> {
     let n = table.wall_count.len();
-    // Blocks in parallel (collected in block order), then the blocks in order; at least 64
-    // blocks (4096 monomers) per thread, as smaller shares cost more to hand over than to sum.
-    let partials: Vec<Vec<DVec3>> = (0..n.div_ceil(REDUCE_BLOCK))
-        .into_par_iter()
-        .with_min_len(64)
-        .map(|block| {
-            let mut sums = vec![DVec3::ZERO; wall_count];
-            for i in block * REDUCE_BLOCK..((block + 1) * REDUCE_BLOCK).min(n) {
-                for slot in 0..table.wall_count[i] as usize {
-                    let idx = i * table.wall_slots + slot;
-                    sums[table.wall[idx].wall as usize] += slot_force[idx];
-                }
-            }
-            sums
-        })
-        .collect();
+    let stride = wall_count.max(1);
+    let mut partials = vec![DVec3::ZERO; n.div_ceil(REDUCE_BLOCK) * stride];
+    for (block, sums) in partials.chunks_mut(stride).enumerate() {
+        reduce_walls_block(table, |idx| slot_force[idx], block, sums);
+    }
+    reduce_walls_final_from(&partials, wall_count)
+}
+
+/// One block's sums (`reduce_walls` in shaders/passes/walls.wgsl): the wall-contact forces
+/// (`slot_force(slot index)`) of monomers `block · REDUCE_BLOCK …` in index and slot order,
+/// added to `sums[wall]`.
+pub fn reduce_walls_block(
+    table: &ContactTable,
+    slot_force: impl Fn(usize) -> DVec3,
+    block: usize,
+    sums: &mut [DVec3],
+) {
+    let n = table.wall_count.len();
+    for i in block * REDUCE_BLOCK..((block + 1) * REDUCE_BLOCK).min(n) {
+        for slot in 0..table.wall_count[i] as usize {
+            let idx = i * table.wall_slots + slot;
+            sums[table.wall[idx].wall as usize] += slot_force(idx);
+        }
+    }
+}
+
+/// The blocks' sums (`wall_count.max(1)` per block, as [`reduce_walls_block`] fills them) added
+/// in block order: each wall's total (`sum_wall_blocks` in shaders/engine/wall_sums.wgsl).
+pub fn reduce_walls_final_from(partials: &[DVec3], wall_count: usize) -> Vec<DVec3> {
+    let stride = wall_count.max(1);
     (0..wall_count)
-        .map(|w| partials.iter().fold(DVec3::ZERO, |sum, p| sum + p[w]))
+        .map(|w| {
+            partials
+                .chunks(stride)
+                .fold(DVec3::ZERO, |sum, p| sum + p[w])
+        })
         .collect()
 }
 

@@ -2,9 +2,8 @@
 //! on the critical lengths.
 
 use crate::support::{crafted, exact, gpu_of, perpendicular, tables_match, turn, worst};
-use dustdem::backend::cpu::{integrate, CpuEngine};
+use dustdem::backend::cpu::CpuEngine;
 use dustdem::backend::gpu::kernels::Kernel;
-use dustdem::model::ContactLaw;
 use dustdem::state::ContactTable;
 
 #[test]
@@ -13,21 +12,16 @@ fn integrate_matches_its_cpu_twin() {
     let Some(mut gpu) = gpu_of(&state) else {
         return;
     };
-    let mut cpu = state.state.clone();
-    let law: ContactLaw = cpu.law;
-    integrate::integrate(
-        cpu.dt,
-        1.0 / law.mass,
-        1.0 / law.moment_of_inertia,
-        &mut cpu.monomers,
-        &mut cpu.contacts,
-        &mut cpu.walls,
-    );
-    gpu.dispatch(&[
+    let mut cpu = CpuEngine::from_state(state.state.clone());
+    let passes = [
         Kernel::IntegrateKick,
         Kernel::IntegratePairs,
         Kernel::IntegrateDrift,
-    ]);
+    ];
+    for pass in passes {
+        cpu.run_pass(pass).unwrap();
+    }
+    gpu.dispatch(&passes);
     let tol = if exact(&gpu) { 0.0 } else { 1e-14 };
     let m = gpu.monomers();
     let errs = [

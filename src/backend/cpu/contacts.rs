@@ -1,12 +1,18 @@
-//! Contact maintenance pass: breaks stretched contacts (δ < −δ_c) and forms new ones (δ ≥ 0),
-//! keeping the history (pointers, twist, wall anchor) of every contact that persists.
+//! Contact maintenance pass, the twin of `contacts` in shaders/passes/contacts.wgsl: for the
+//! owners `contacts_scan` listed, breaks stretched contacts (δ < −δ_c) and forms new ones
+//! (δ ≥ 0), keeping the history (pointers, twist, wall anchor) of every contact that persists;
+//! then applies the inelastic limits of their pair contacts and evaluates their wall contacts
+//! (limits and forces, into the per-slot results `wall_forces` gathers).
 //!
 //! Every change is to the owner's own row of the table, so owners run in parallel (in fixed
 //! chunks, each summing its dissipation in owner order); a row's events are the same whatever
 //! the thread count.
 
+use super::forces::apply_inelastic_limits;
 use super::prefetch::{prefetch_row_ahead, worthwhile};
-use super::workspace::{split_len, sum_in_order, CHUNK};
+use super::walls::wall_contacts_of;
+use super::workspace::{split_len, sum_in_order, Workspace, CHUNK};
+use crate::backend::script::{OWNER_CORRECTIONS, OWNER_EVENTS, OWNER_INDEX, OWNER_WALLS};
 use crate::engine::EngineError;
 use crate::model::{wall as wall_law, ContactLaw};
 use crate::state::interaction::{pair_step_energy, wall_step_energy};
@@ -14,16 +20,25 @@ use crate::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallC
 use rayon::prelude::*;
 
 /// One owner's row of the table.
-struct Row<'a> {
-    pair: &'a mut [PairContact],
-    pair_count: &'a mut u32,
-    wall: &'a mut [WallContact],
-    wall_count: &'a mut u32,
+pub(super) struct Row<'a> {
+    pub pair: &'a mut [PairContact],
+    pub pair_count: &'a mut u32,
+    pub wall: &'a mut [WallContact],
+    pub wall_count: &'a mut u32,
 }
 
-/// Removes broken contacts and adds new ones; `candidates` are the neighbour-list pairs
-/// (i < j, sorted), `starts` where each owner's begin ([`super::neighbours::owner_starts`]).
-/// Returns whether any contact formed or broke.
+/// The work items of the owners `first..first + len` in a list sorted by owner.
+pub(super) fn items_of(work: &[u32], first: usize, len: usize) -> &[u32] {
+    let a = work.partition_point(|w| ((w & OWNER_INDEX) as usize) < first);
+    let b = work.partition_point(|w| ((w & OWNER_INDEX) as usize) < first + len);
+    &work[a..b]
+}
+
+/// Does what `work` (contacts_scan's list) says for each listed owner: its contact events
+/// (`candidates` are the neighbour-list pairs, i < j, sorted; `starts` where each owner's
+/// begin, [`super::neighbours::owner_starts`]), its pair contacts' inelastic limits, its wall
+/// contacts' limits and forces (into `workspace`'s per-slot wall results). Returns whether any
+/// contact formed or broke.
 #[allow(clippy::too_many_arguments)]
 pub fn contacts(
     law: &ContactLaw,
@@ -34,39 +49,76 @@ pub fn contacts(
     starts: &[u32],
     table: &mut ContactTable,
     tally: &mut Dissipation,
+    work: &[u32],
+    workspace: &mut Workspace,
 ) -> Result<bool, EngineError> {
     let (ps, ws) = (table.pair_slots, table.wall_slots);
     let n = monomers.len();
     let prefetching = worthwhile(table);
+    workspace.size_wall_results(n * ws);
     let chunks: Vec<Result<(Dissipation, bool), EngineError>> = (
         table.pair.par_chunks_mut(CHUNK * ps),
         table.pair_count.par_chunks_mut(CHUNK),
         table.wall.par_chunks_mut(CHUNK * ws),
         table.wall_count.par_chunks_mut(CHUNK),
+        workspace.wall_result.par_chunks_mut(CHUNK * ws),
     )
         .into_par_iter()
         .with_min_len(split_len(n, CHUNK))
         .enumerate()
-        .map(|(chunk, (pairs, pair_counts, wall_rows, wall_counts))| {
-            let mut dissipated = Dissipation::default();
-            let mut changed = false;
-            for k in 0..pair_counts.len() {
-                let i = chunk * CHUNK + k;
-                if prefetching {
-                    prefetch_row_ahead(pairs, ps, pair_counts, k);
+        .map(
+            |(chunk, (pairs, pair_counts, wall_rows, wall_counts, results))| {
+                let mut dissipated = Dissipation::default();
+                let mut changed = false;
+                let first = chunk * CHUNK;
+                for &item in items_of(work, first, pair_counts.len()) {
+                    let i = (item & OWNER_INDEX) as usize;
+                    let k = i - first;
+                    if prefetching {
+                        prefetch_row_ahead(pairs, ps, pair_counts, k);
+                    }
+                    let mut row = Row {
+                        pair: &mut pairs[k * ps..(k + 1) * ps],
+                        pair_count: &mut pair_counts[k],
+                        wall: &mut wall_rows[k * ws..(k + 1) * ws],
+                        wall_count: &mut wall_counts[k],
+                    };
+                    if item & OWNER_EVENTS != 0 {
+                        let mine = &candidates[starts[i] as usize..starts[i + 1] as usize];
+                        changed |= contact_events(
+                            law,
+                            dt,
+                            monomers,
+                            walls,
+                            mine,
+                            i,
+                            &mut row,
+                            &mut dissipated,
+                        )?;
+                    }
+                    if item & OWNER_CORRECTIONS != 0 {
+                        for c in &mut row.pair[..*row.pair_count as usize] {
+                            apply_inelastic_limits(law, monomers, dt, i, c, &mut dissipated);
+                        }
+                    }
+                    if item & OWNER_WALLS != 0 {
+                        let count = *row.wall_count as usize;
+                        let slots = k * ws..k * ws + count;
+                        wall_contacts_of(
+                            law,
+                            dt,
+                            walls,
+                            monomers,
+                            i,
+                            &mut row.wall[..count],
+                            &mut results[slots],
+                            &mut dissipated,
+                        );
+                    }
                 }
-                let mut row = Row {
-                    pair: &mut pairs[k * ps..(k + 1) * ps],
-                    pair_count: &mut pair_counts[k],
-                    wall: &mut wall_rows[k * ws..(k + 1) * ws],
-                    wall_count: &mut wall_counts[k],
-                };
-                let mine = &candidates[starts[i] as usize..starts[i + 1] as usize];
-                changed |=
-                    owner_contacts(law, dt, monomers, walls, mine, i, &mut row, &mut dissipated)?;
-            }
-            Ok((dissipated, changed))
-        })
+                Ok((dissipated, changed))
+            },
+        )
         .collect();
     let mut sums = Vec::with_capacity(chunks.len());
     let mut changed = false;
@@ -82,7 +134,7 @@ pub fn contacts(
 /// Breaks, then forms, the pair and wall contacts of owner `i` (`candidates` are its own);
 /// returns whether any formed or broke.
 #[allow(clippy::too_many_arguments)]
-fn owner_contacts(
+fn contact_events(
     law: &ContactLaw,
     dt: f64,
     monomers: &Monomers,

@@ -1,14 +1,17 @@
-//! Monomer–monomer force pass: inelastic corrections first (booked per channel as the drop of
-//! the contact's tangential potential), then JKR, damping, rolling, sliding and twisting.
+//! Monomer–monomer contacts: the inelastic corrections (booked per channel as the drop of the
+//! contact's step energy; the contacts pass applies them, `forces_corrections` alone in
+//! tests) and the force pass, JKR, damping, rolling, sliding and twisting: the twins of
+//! `forces_corrections` and `forces` in shaders/passes/forces.wgsl.
 //!
-//! Data-parallel as the device does it (shaders/passes/forces.wgsl, walls.wgsl): each owner
-//! evaluates its own contacts into per-slot results (`forces_per_slot`), and each monomer then
-//! gathers them in a fixed order (`gather_pair_forces`: contacts it is the partner of, by owner
-//! and slot, then its own slots), the order in which a single thread adding contact by contact
-//! would sum them. So the forces do not depend on the thread count and equal the device's bits.
+//! Data-parallel as the device does it: each owner evaluates its own contacts into per-contact
+//! results, and `wall_forces` (walls.rs) gathers them per monomer in a fixed order (contacts it
+//! is the partner of, by owner and slot, then its own slots), the order in which a single
+//! thread adding contact by contact would sum them. So the forces do not depend on the thread
+//! count and equal the device's bits.
 
 use super::prefetch::{prefetch_one, prefetch_partners_ahead, prefetch_row_ahead, worthwhile};
-use super::workspace::{each_accumulator, split_len, sum_in_order, Workspace, CHUNK};
+use super::workspace::{split_len, Workspace, CHUNK};
+use crate::backend::script::{OWNER_CORRECTIONS, OWNER_INDEX};
 use crate::model::{rolling, sliding, twisting, ContactLaw};
 use crate::state::interaction::{
     pair_geometry, pair_interaction, pair_normal_potential, pair_step_energy_at, PairGeometry,
@@ -84,17 +87,41 @@ pub fn apply_inelastic_limits(
     }
 }
 
-/// Every pair contact's corrections and forces, owner by owner in parallel, into
-/// `workspace.pair_result`: one entry per contact, the owners' contacts one after another
-/// (`workspace.incoming.owner_start`, which must describe the table). Returns what the
-/// corrections dissipated, summed per chunk of owners and then over chunks in order.
-pub fn forces_per_slot(
+/// [`apply_inelastic_limits`] to every pair contact of the owners `contacts_scan` listed with
+/// [`OWNER_CORRECTIONS`], without their contact events: the step applies them in the contacts
+/// pass, after the events; this lets the forces be tested on a state whose events have not
+/// run. Returns what the corrections dissipated.
+pub fn forces_corrections(
     law: &ContactLaw,
     dt: f64,
     monomers: &Monomers,
     table: &mut ContactTable,
-    workspace: &mut Workspace,
+    work: &[u32],
 ) -> Dissipation {
+    let ps = table.pair_slots;
+    let mut tally = Dissipation::default();
+    for &item in work.iter().filter(|w| *w & OWNER_CORRECTIONS != 0) {
+        let i = (item & OWNER_INDEX) as usize;
+        for c in &mut table.pair[i * ps..i * ps + table.pair_count[i] as usize] {
+            apply_inelastic_limits(law, monomers, dt, i, c, &mut tally);
+        }
+    }
+    tally
+}
+
+/// Every pair contact's force, owner by owner in parallel, into `workspace.pair_result`: one
+/// entry per contact, the owners' contacts one after another (`workspace.incoming`, the
+/// partner index, rebuilt here after contact events).
+pub fn forces(
+    law: &ContactLaw,
+    monomers: &Monomers,
+    table: &ContactTable,
+    workspace: &mut Workspace,
+) {
+    if !workspace.partner_index_current {
+        workspace.incoming.rebuild(table);
+        workspace.partner_index_current = true;
+    }
     let slots = table.pair_slots;
     let n = monomers.len();
     let owner_start = workspace.incoming.owner_start();
@@ -113,14 +140,13 @@ pub fn forces_per_slot(
     }
     let prefetching = worthwhile(table);
     let counts = &table.pair_count;
-    let chunks: Vec<Dissipation> = table
+    table
         .pair
-        .par_chunks_mut(CHUNK * slots)
+        .par_chunks(CHUNK * slots)
         .zip(stretches.into_par_iter())
         .with_min_len(split_len(n, CHUNK))
         .enumerate()
-        .map(|(chunk, (rows, results))| {
-            let mut tally = Dissipation::default();
+        .for_each(|(chunk, (rows, results))| {
             let first = chunk * CHUNK;
             let counts = &counts[first..(first + CHUNK).min(n)];
             let mut out = results.iter_mut();
@@ -133,8 +159,7 @@ pub fn forces_per_slot(
                         prefetch_one(&monomers.velocity[j]);
                     });
                 }
-                for c in &mut rows[k * slots..k * slots + count as usize] {
-                    apply_inelastic_limits(law, monomers, dt, i, c, &mut tally);
+                for c in &rows[k * slots..k * slots + count as usize] {
                     let j = c.partner as usize;
                     let (x1, x2) = (monomers.position[i], monomers.position[j]);
                     let (v1, v2) = (monomers.velocity[i], monomers.velocity[j]);
@@ -148,54 +173,5 @@ pub fn forces_per_slot(
                     };
                 }
             }
-            tally
-        })
-        .collect();
-    sum_in_order(&chunks)
-}
-
-/// Each monomer's force, damping force and torque from the per-contact results: the contacts
-/// it is the partner of (in owner and slot order), then its own. Overwrites the accumulators
-/// (the walls pass adds to them).
-pub fn gather_pair_forces(monomers: &mut Monomers, workspace: &Workspace) {
-    let incoming = &workspace.incoming;
-    let owner_start = incoming.owner_start();
-    let results = &workspace.pair_result;
-    each_accumulator(monomers, |i, force, damping, torque| {
-        let (mut f, mut fd, mut t) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
-        for &idx in incoming.of(i) {
-            let r = &results[idx as usize];
-            f -= r.force;
-            fd -= r.damping;
-            t += r.torque_partner;
-        }
-        for r in &results[owner_start[i] as usize..owner_start[i + 1] as usize] {
-            f += r.force;
-            fd += r.damping;
-            t += r.torque_owner;
-        }
-        *force = f;
-        *damping = fd;
-        *torque = t;
-    });
-}
-
-/// The pass: the partner index (after contact events), corrections and per-contact forces,
-/// the gather. Adds what the
-/// corrections dissipated to `tally`.
-pub fn forces(
-    law: &ContactLaw,
-    dt: f64,
-    monomers: &mut Monomers,
-    table: &mut ContactTable,
-    tally: &mut Dissipation,
-    workspace: &mut Workspace,
-) {
-    if !workspace.partner_index_current {
-        workspace.incoming.rebuild(table);
-        workspace.partner_index_current = true;
-    }
-    let dissipated = forces_per_slot(law, dt, monomers, table, workspace);
-    gather_pair_forces(monomers, workspace);
-    tally.add(&dissipated);
+        });
 }

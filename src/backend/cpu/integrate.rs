@@ -2,32 +2,24 @@
 //! twist integrals with the mid-step angular velocities, drift positions and walls.
 //!
 //! Every loop is per monomer (or per owner row) with no sums across monomers, so it runs in
-//! parallel with the same bits for any thread count.
+//! parallel with the same bits for any thread count. The twins of the entry points of
+//! shaders/passes/integrate.wgsl, one function each.
 
+use super::neighbours::NeighbourList;
 use super::prefetch::{prefetch_one, prefetch_partners_ahead, prefetch_row_ahead, worthwhile};
 use super::workspace::{split_len, CHUNK};
+use crate::backend::script::{PAIR_TEST_BEYOND, PAIR_TEST_BREAKS};
 use crate::model::pointer::rotate_pointer;
 use crate::model::twisting::twist_increment;
-use crate::state::{ContactTable, Monomers, Wall};
+use crate::model::ContactLaw;
+use crate::state::interaction::beyond_limits;
+use crate::state::{ContactTable, Dissipation, Monomers, PairContact, Wall};
+use glam::DVec3;
 use rayon::prelude::*;
 
-/// One leap-frog step, as the device does it in three passes (the twins of the WGSL entry
-/// points of the same names).
-pub fn integrate(
-    dt: f64,
-    inverse_mass: f64,
-    inverse_inertia: f64,
-    monomers: &mut Monomers,
-    table: &mut ContactTable,
-    walls: &mut [Wall],
-) {
-    integrate_kick(dt, inverse_mass, inverse_inertia, monomers, table, walls);
-    integrate_pairs(dt, monomers, table);
-    integrate_drift(dt, monomers, walls);
-}
-
 /// Kick, and the wall contacts' pointers and twist, which need only the monomer's own
-/// mid-step spin. Parallel over chunks of monomers, a plain loop within each.
+/// mid-step spin; clears the pair tests for this step's `integrate_pairs`. Parallel over
+/// chunks of monomers, a plain loop within each.
 pub fn integrate_kick(
     dt: f64,
     inverse_mass: f64,
@@ -35,7 +27,10 @@ pub fn integrate_kick(
     monomers: &mut Monomers,
     table: &mut ContactTable,
     walls: &[Wall],
+    pair_tests: &mut Vec<u32>,
 ) {
+    pair_tests.clear();
+    pair_tests.resize(monomers.len(), 0);
     let ws = table.wall_slots;
     let n = monomers.len();
     let m = monomers;
@@ -66,8 +61,16 @@ pub fn integrate_kick(
 }
 
 /// Both pointers and the twist integral of every pair contact, with the kicked velocities
-/// and the positions before the drift. Parallel over chunks of owners.
-pub fn integrate_pairs(dt: f64, monomers: &Monomers, table: &mut ContactTable) {
+/// and the positions before the drift; then the contact's tests for `contacts_scan`
+/// ([`test_pair_contact`]) at the positions the drift is about to store. Parallel over chunks
+/// of owners.
+pub fn integrate_pairs(
+    law: &ContactLaw,
+    dt: f64,
+    monomers: &Monomers,
+    table: &mut ContactTable,
+    pair_tests: &mut [u32],
+) {
     let pos = &monomers.position;
     let vel = &monomers.velocity;
     let omega = &monomers.angular_velocity;
@@ -76,11 +79,12 @@ pub fn integrate_pairs(dt: f64, monomers: &Monomers, table: &mut ContactTable) {
     (
         table.pair.par_chunks_mut(CHUNK * ps),
         table.pair_count.par_chunks(CHUNK),
+        pair_tests.par_chunks_mut(CHUNK),
     )
         .into_par_iter()
         .with_min_len(split_len(pos.len(), CHUNK))
         .enumerate()
-        .for_each(|(chunk, (rows, counts))| {
+        .for_each(|(chunk, (rows, counts, tests))| {
             let first = chunk * CHUNK;
             for (k, &count) in counts.iter().enumerate() {
                 let i = first + k;
@@ -92,6 +96,7 @@ pub fn integrate_pairs(dt: f64, monomers: &Monomers, table: &mut ContactTable) {
                         prefetch_one(&omega[j]);
                     });
                 }
+                let mut bits = 0;
                 for c in &mut rows[k * ps..k * ps + count as usize] {
                     let j = c.partner as usize;
                     // Contact normal at mid-step, x(n+½) = x(n) + v(n+½) dt/2.
@@ -99,25 +104,79 @@ pub fn integrate_pairs(dt: f64, monomers: &Monomers, table: &mut ContactTable) {
                     c.twist += twist_increment(omega[i] - omega[j], nc_mid, dt);
                     c.n1 = rotate_pointer(c.n1, omega[i] * dt);
                     c.n2 = rotate_pointer(c.n2, omega[j] * dt);
+                    bits |= test_pair_contact(law, pos[i] + vel[i] * dt, pos[j] + vel[j] * dt, c);
                 }
+                tests[k] = bits;
             }
         });
 }
 
-/// Positions and walls.
-pub fn integrate_drift(dt: f64, monomers: &mut Monomers, walls: &mut [Wall]) {
+/// What `contacts_scan` needs to know of one pair contact, at the positions, pointers and twist
+/// the contact events will see: whether it breaks (δ < −δ_c, as the events test it) and whether
+/// it is beyond an inelastic limit ([`PAIR_TEST_BREAKS`], [`PAIR_TEST_BEYOND`]).
+pub fn test_pair_contact(law: &ContactLaw, x1: DVec3, x2: DVec3, c: &PairContact) -> u32 {
+    let delta = 2.0 * law.radius - (x1 - x2).length();
+    let breaks = if delta < -law.pair.delta_c {
+        PAIR_TEST_BREAKS
+    } else {
+        0
+    };
+    let beyond = if beyond_limits(law, x1, x2, c) {
+        PAIR_TEST_BEYOND
+    } else {
+        0
+    };
+    breaks | beyond
+}
+
+/// Positions and walls; whether some monomer has moved more than half the skin since the
+/// candidate list was built (the list's `rebuild_due`, for the neighbour passes).
+pub fn integrate_drift(
+    dt: f64,
+    monomers: &mut Monomers,
+    walls: &mut [Wall],
+    neighbours: &mut NeighbourList,
+) {
     let velocity = &monomers.velocity;
-    monomers
+    let limit = 0.25 * neighbours.skin * neighbours.skin;
+    let reference = &neighbours.reference;
+    let fresh = reference.len() == velocity.len();
+    let moved = monomers
         .position
         .par_chunks_mut(CHUNK)
         .zip(velocity.par_chunks(CHUNK))
         .with_min_len(split_len(velocity.len(), CHUNK))
-        .for_each(|(x, v)| {
-            for (x, v) in x.iter_mut().zip(v) {
+        .enumerate()
+        .map(|(chunk, (x, v))| {
+            let mut moved = false;
+            for (k, (x, v)) in x.iter_mut().zip(v).enumerate() {
                 *x += *v * dt;
+                moved |= fresh && (*x - reference[chunk * CHUNK + k]).length_squared() > limit;
             }
-        });
+            moved
+        })
+        .reduce(|| false, |a, b| a || b);
+    neighbours.rebuild_due |= moved || !fresh;
     for w in walls.iter_mut() {
         w.point += w.velocity * dt;
     }
+}
+
+/// The half-step shift of synchronised initial velocities, v(−½) = v(0) − F(0) dt / 2m (and
+/// the spins), as the leap-frog stores them.
+pub fn integrate_start(dt: f64, inverse_mass: f64, inverse_inertia: f64, monomers: &mut Monomers) {
+    let half = 0.5 * dt;
+    let m = monomers;
+    for i in 0..m.len() {
+        m.velocity[i] -= m.force[i] * (half * inverse_mass * m.inverse_mass_scale[i]);
+        m.angular_velocity[i] -=
+            m.torque[i] * (half * inverse_inertia * m.inverse_inertia_scale[i]);
+    }
+}
+
+/// After the forces at time 0: the damping and wall-work channels book work over a step, and
+/// there is no step before time 0.
+pub fn integrate_clear_work(tally: &mut Dissipation, wall_work: &mut f64) {
+    tally.damping = 0.0;
+    *wall_work = 0.0;
 }

@@ -34,19 +34,21 @@ fn table_bytes(t: &ContactTable) -> u64 {
 }
 
 fn neighbour_bytes(l: &NeighbourList) -> u64 {
-    bytes(&l.pairs) + bytes(&l.starts) + l.reference_bytes()
+    bytes(&l.pairs) + bytes(&l.starts) + bytes(&l.reference) + bytes(&l.cells)
 }
 
 fn workspace_bytes(w: &Workspace) -> u64 {
     bytes(&w.pair_result)
         + w.incoming.heap_bytes()
-        + bytes(&w.wall_force)
-        + bytes(&w.wall_damping)
-        + bytes(&w.wall_torque)
+        + bytes(&w.wall_result)
+        + bytes(&w.pair_tests)
+        + bytes(&w.work)
+        + bytes(&w.wall_partials)
+        + bytes(&w.wall_damping_partials)
 }
 
 /// Heap bytes of the engine's arrays: monomers, contact table, walls' forces, neighbour list,
-/// per-contact results and indices, and the damping forces kept for the work.
+/// per-contact results, indices and work lists.
 pub fn engine_bytes(e: &CpuEngine) -> u64 {
     let s = &e.state;
     monomer_bytes(&s.monomers)
@@ -55,5 +57,4 @@ pub fn engine_bytes(e: &CpuEngine) -> u64 {
         + bytes(&s.wall_damping)
         + neighbour_bytes(&e.neighbours)
         + workspace_bytes(&e.workspace)
-        + bytes(e.damping_before())
 }

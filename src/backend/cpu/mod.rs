@@ -1,7 +1,11 @@
-//! CPU reference backend (f64): the same passes, in the same order, as the GPU step script.
+//! CPU reference backend (f64): it runs the step script of `backend::script`, the GPU
+//! engine's, pass by pass, each pass the CPU function of its entry point's name
+//! (`executor.rs`).
 //!
-//! One step: `integrate` (kick, pointers, twist, drift) → `neighbours` (refresh when stale) →
-//! `contacts` (break, form) → `forces` (monomer pairs) → `walls` → work bookkeeping.
+//! One step: `integrate_kick`, `integrate_pairs`, `integrate_drift` (leap-frog, pointers,
+//! twist; the pair contacts' tests) → `neighbours`, `neighbours_list` (when stale) →
+//! `contacts_scan`, `contacts` (events, inelastic limits, wall contacts) → `forces` (monomer
+//! pairs) → `wall_forces` (gather, work), `reduce_walls_final` (wall forces).
 //!
 //! A leaf: it steps a [`State`] under the [`Engine`] contract and uses nothing of another
 //! backend.
@@ -13,17 +17,20 @@
 //! for any thread count; one thread runs the same code.
 
 pub mod contacts;
+mod executor;
 pub mod forces;
 pub mod integrate;
 pub mod memory;
 pub mod neighbours;
 mod prefetch;
+pub mod scan;
 pub mod walls;
 pub mod workspace;
 
+use crate::backend::script::{Kernel, START, STEP};
 use crate::engine::{Engine, EngineError, SKIN_RADII};
 use crate::model::ContactLaw;
-use crate::state::{simulated_time, Dissipation, EnergyReport, Monomers, State, Wall};
+use crate::state::{simulated_time, EnergyReport, Monomers, State, Wall};
 use glam::DVec3;
 use neighbours::NeighbourList;
 use rayon::prelude::*;
@@ -39,10 +46,9 @@ pub struct CpuEngine {
     pub neighbours: NeighbourList,
     /// Wall-clock seconds spent in each pass, in [`PASS_NAMES`] order.
     pub pass_seconds: [f64; 5],
-    /// Per-slot results and indices the passes reuse; derived from the state each step.
+    /// Per-slot results, indices and work lists the passes hand each other; derived from the
+    /// state each step.
     pub workspace: Workspace,
-    /// The damping forces of the step before, for the trapezoid-rule work (reused buffers).
-    damping_before: Vec<DVec3>,
 }
 
 impl Deref for CpuEngine {
@@ -60,8 +66,19 @@ impl DerefMut for CpuEngine {
     }
 }
 
-/// The passes of one step, in order.
+/// The passes of one step, timed in these groups.
 pub const PASS_NAMES: [&str; 5] = ["integrate", "neighbours", "contacts", "forces", "walls"];
+
+/// The group of [`PASS_NAMES`] a pass is timed in.
+fn timing_group(pass: Kernel) -> usize {
+    match pass.entry() {
+        e if e.starts_with("integrate") => 0,
+        e if e.starts_with("neighbours") => 1,
+        e if e.starts_with("contacts") => 2,
+        "forces" | "forces_corrections" => 3,
+        _ => 4,
+    }
+}
 
 fn neighbour_list(law: &ContactLaw) -> NeighbourList {
     NeighbourList::new(2.0 * law.radius, SKIN_RADII * law.radius)
@@ -69,8 +86,8 @@ fn neighbour_list(law: &ContactLaw) -> NeighbourList {
 
 impl CpuEngine {
     /// Builds the engine with synchronised initial velocities `monomers.velocity` (time 0):
-    /// finds the initial contacts, computes the forces at time 0 and shifts the velocities back
-    /// half a step, as the leap-frog stores them.
+    /// runs the start script ([`START`]): the initial contacts, the forces at time 0, and the
+    /// velocities shifted back half a step, as the leap-frog stores them.
     pub fn new(
         law: ContactLaw,
         dt: f64,
@@ -85,160 +102,43 @@ impl CpuEngine {
             neighbours: neighbour_list(&law),
             pass_seconds: [0.0; 5],
             workspace: Workspace::default(),
-            damping_before: Vec::new(),
         };
-        engine.neighbours.refresh(&engine.state.monomers.position);
-        let s = &mut engine.state;
-        contacts::contacts(
-            &s.law,
-            dt,
-            &s.monomers,
-            &s.walls,
-            &engine.neighbours.pairs,
-            &engine.neighbours.starts,
-            &mut s.contacts,
-            &mut s.tally,
-        )?;
-        // Contacts present at the start are part of the initial state, not a dissipation.
-        s.tally = Dissipation::default();
-        engine.compute_forces();
-        let half = 0.5 * dt;
-        let (im, ii) = engine.inverse_mass_inertia();
-        let m = &mut engine.state.monomers;
-        for i in 0..n {
-            m.velocity[i] -= m.force[i] * (half * im * m.inverse_mass_scale[i]);
-            m.angular_velocity[i] -= m.torque[i] * (half * ii * m.inverse_inertia_scale[i]);
+        engine.workspace.pair_tests = vec![0; n];
+        for pass in START {
+            engine.run_pass(pass)?;
         }
         Ok(engine)
     }
 
     /// An engine holding exactly the given state, nothing recomputed (a checkpoint's, or one
-    /// another backend computed); its neighbour list is built from the positions.
+    /// another backend computed); its neighbour list is built from the positions and its pair
+    /// tests made on the state as it is (`contacts_pair_tests`, as the device after an upload).
     pub fn from_state(state: State) -> Self {
         let mut neighbours = neighbour_list(&state.law);
         neighbours.refresh(&state.monomers.position);
-        CpuEngine {
+        let mut engine = CpuEngine {
             state,
             neighbours,
             pass_seconds: [0.0; 5],
             workspace: Workspace::default(),
-            damping_before: Vec::new(),
-        }
+        };
+        engine
+            .run_pass(Kernel::ContactsPairTests)
+            .expect("the pair tests cannot fail");
+        engine
     }
 
-    /// The damping forces kept for the next step's work (for the memory count).
-    pub fn damping_before(&self) -> &Vec<DVec3> {
-        &self.damping_before
-    }
-
-    fn inverse_mass_inertia(&self) -> (f64, f64) {
-        (1.0 / self.law.mass, 1.0 / self.law.moment_of_inertia)
-    }
-
-    fn compute_forces(&mut self) {
-        let s = &mut self.state;
-        let clock = std::time::Instant::now();
-        forces::forces(
-            &s.law,
-            s.dt,
-            &mut s.monomers,
-            &mut s.contacts,
-            &mut s.tally,
-            &mut self.workspace,
-        );
-        self.pass_seconds[3] += clock.elapsed().as_secs_f64();
-        let clock = std::time::Instant::now();
-        walls::wall_forces(
-            &s.law,
-            s.dt,
-            &s.walls,
-            &mut s.monomers,
-            &mut s.contacts,
-            &mut s.tally,
-            &mut s.wall_force,
-            &mut s.wall_damping,
-            &mut self.workspace,
-        );
-        self.pass_seconds[4] += clock.elapsed().as_secs_f64();
-    }
-
-    /// Advances one time step.
+    /// Advances one time step: the passes of [`STEP`].
     pub fn step(&mut self) -> Result<(), EngineError> {
-        let (im, ii) = self.inverse_mass_inertia();
+        let step = self.step;
+        for pass in STEP {
+            let clock = std::time::Instant::now();
+            self.run_pass(pass).map_err(|e| e.at_step(step + 1))?;
+            self.pass_seconds[timing_group(pass)] += clock.elapsed().as_secs_f64();
+        }
         let s = &mut self.state;
-        let clock = std::time::Instant::now();
-        integrate::integrate(s.dt, im, ii, &mut s.monomers, &mut s.contacts, &mut s.walls);
-        self.pass_seconds[0] += clock.elapsed().as_secs_f64();
-        let clock = std::time::Instant::now();
-        self.neighbours.refresh(&s.monomers.position);
-        self.pass_seconds[1] += clock.elapsed().as_secs_f64();
-        let clock = std::time::Instant::now();
-        let step = s.step;
-        let changed = contacts::contacts(
-            &s.law,
-            s.dt,
-            &s.monomers,
-            &s.walls,
-            &self.neighbours.pairs,
-            &self.neighbours.starts,
-            &mut s.contacts,
-            &mut s.tally,
-        )
-        .map_err(|e| match e {
-            EngineError::SlotOverflow {
-                kind,
-                monomer,
-                limit,
-                ..
-            } => EngineError::SlotOverflow {
-                kind,
-                step: step + 1,
-                monomer,
-                limit,
-            },
-            other => other,
-        })?;
-        if changed {
-            self.workspace.partner_index_current = false;
-        }
-        self.pass_seconds[2] += clock.elapsed().as_secs_f64();
-        self.damping_before.clone_from(&s.monomers.damping_force);
-        let wall_force_before = s.wall_force.clone();
-        let wall_damping_before = s.wall_damping.clone();
-        self.compute_forces();
-        // Work over the step by the trapezoid rule, which matches the leap-frog's kinetic
-        // energy change exactly up to a bounded, telescoping term. Summed per chunk, then over
-        // chunks in order.
-        let s = &mut self.state;
-        let dt = s.dt;
-        let m = &s.monomers;
-        let chunk_work: Vec<f64> = (
-            self.damping_before.par_chunks(CHUNK),
-            m.damping_force.par_chunks(CHUNK),
-            m.velocity.par_chunks(CHUNK),
-        )
-            .into_par_iter()
-            .with_min_len(split_len(m.len(), CHUNK))
-            .map(|(before, after, velocity)| {
-                let mut work = 0.0;
-                for ((b, a), v) in before.iter().zip(after).zip(velocity) {
-                    work += 0.5 * (*b + *a).dot(*v * dt);
-                }
-                work
-            })
-            .collect();
-        let mut damping_work = 0.0;
-        for w in chunk_work {
-            damping_work += w;
-        }
-        for (w, wall) in s.walls.iter().enumerate() {
-            let travel = wall.velocity * dt;
-            damping_work -= 0.5 * (wall_damping_before[w] + s.wall_damping[w]).dot(travel);
-            s.wall_work += 0.5 * (wall_force_before[w] + s.wall_force[w]).dot(travel);
-        }
-        s.tally.damping -= damping_work;
         s.step += 1;
-        s.time = simulated_time(s.step, dt);
+        s.time = simulated_time(s.step, s.dt);
         if s.step.is_multiple_of(64) {
             self.check_state()?;
         }

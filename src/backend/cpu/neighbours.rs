@@ -3,6 +3,13 @@
 //!
 //! Cells are keyed by integer coordinates and found by sorting, so the domain is unbounded
 //! (unidirectional runs spread sideways) and the memory is proportional to N.
+//!
+//! The twins of shaders/passes/neighbours.wgsl: [`neighbours`] puts every monomer in its cell,
+//! [`neighbours_list`] lists the pairs within reach from the 27 cells around each, both only
+//! when `integrate_drift` found the list due. The device hashes cells into a bucket table of
+//! fixed size and keeps each monomer's candidates without its current partners (its lists
+//! have a capacity); the CPU sorts cell keys and keeps one sorted list of all pairs, partners
+//! included (the contacts pass skips them): the same candidates.
 
 use super::workspace::{split_len, CHUNK};
 use glam::DVec3;
@@ -18,16 +25,17 @@ pub struct NeighbourList {
     pub pairs: Vec<(u32, u32)>,
     /// Where each monomer's candidates start in `pairs` (n + 1 entries; see [`owner_starts`]).
     pub starts: Vec<u32>,
-    reference: Vec<DVec3>,
+    /// The positions the list was built from.
+    pub reference: Vec<DVec3>,
     pub rebuilds: u64,
+    /// Some monomer has moved more than half the skin since `reference` (or there is none):
+    /// the neighbour passes rebuild the list.
+    pub rebuild_due: bool,
+    /// Every monomer by its cell (edge `contact_distance + skin`), sorted: `neighbours`' bins.
+    pub cells: Vec<([i64; 3], u32)>,
 }
 
 impl NeighbourList {
-    /// Heap bytes of the positions the list was built from.
-    pub fn reference_bytes(&self) -> u64 {
-        super::memory::bytes(&self.reference)
-    }
-
     pub fn new(contact_distance: f64, skin: f64) -> Self {
         NeighbourList {
             contact_distance,
@@ -36,10 +44,13 @@ impl NeighbourList {
             starts: Vec::new(),
             reference: Vec::new(),
             rebuilds: 0,
+            rebuild_due: true,
+            cells: Vec::new(),
         }
     }
 
-    /// Rebuilds the list when it may have gone stale; returns whether it did.
+    /// Rebuilds the list when it may have gone stale; returns whether it did (the staleness
+    /// test of `integrate_drift`, then the neighbour passes).
     pub fn refresh(&mut self, position: &[DVec3]) -> bool {
         let limit = 0.25 * self.skin * self.skin;
         let stale = self.reference.len() != position.len()
@@ -52,14 +63,41 @@ impl NeighbourList {
                         .zip(r)
                         .any(|(p, r)| (*p - *r).length_squared() > limit)
                 });
-        if stale {
-            self.pairs = bin_pairs(position, self.contact_distance + self.skin);
-            self.starts = owner_starts(&self.pairs, position.len());
-            self.reference = position.to_vec();
-            self.rebuilds += 1;
-        }
-        stale
+        self.rebuild_due |= stale;
+        let due = self.rebuild_due;
+        neighbours(position, self);
+        neighbours_list(position, self);
+        self.rebuild_due = false;
+        due
     }
+}
+
+/// Puts every monomer in its cell of edge `contact_distance + skin` (sorted by cell), when
+/// the list is due.
+pub fn neighbours(position: &[DVec3], list: &mut NeighbourList) {
+    if !list.rebuild_due {
+        return;
+    }
+    let cutoff = list.contact_distance + list.skin;
+    list.cells = position
+        .par_iter()
+        .enumerate()
+        .map(|(i, p)| (cell_of(*p, cutoff), i as u32))
+        .collect();
+    list.cells.par_sort_unstable();
+}
+
+/// The candidate pairs from the cells around each monomer, when the list is due; the positions
+/// they were found at become the reference of `integrate_drift`'s test.
+pub fn neighbours_list(position: &[DVec3], list: &mut NeighbourList) {
+    if !list.rebuild_due {
+        return;
+    }
+    list.pairs = pairs_from_cells(position, &list.cells, list.contact_distance + list.skin);
+    list.starts = owner_starts(&list.pairs, position.len());
+    list.reference.clear();
+    list.reference.extend_from_slice(position);
+    list.rebuilds += 1;
 }
 
 /// For pairs sorted by owner, the index of each owner's first pair (n + 1 entries, the last
@@ -83,16 +121,10 @@ fn cell_of(p: DVec3, cell: f64) -> [i64; 3] {
     ]
 }
 
-/// All pairs (i < j) closer than `cutoff`, sorted, by binning into cubic cells of edge `cutoff`.
+/// All pairs (i < j) closer than `cutoff` from the monomers sorted by cell (edge `cutoff`).
 /// Each monomer's partners are found in parallel and sorted; the lists are joined in monomer
 /// order, so the result is the same for any thread count.
-pub fn bin_pairs(position: &[DVec3], cutoff: f64) -> Vec<(u32, u32)> {
-    let mut keyed: Vec<([i64; 3], u32)> = position
-        .par_iter()
-        .enumerate()
-        .map(|(i, p)| (cell_of(*p, cutoff), i as u32))
-        .collect();
-    keyed.par_sort_unstable();
+fn pairs_from_cells(position: &[DVec3], keyed: &[([i64; 3], u32)], cutoff: f64) -> Vec<(u32, u32)> {
     let cutoff2 = cutoff * cutoff;
     let lists: Vec<Vec<(u32, u32)>> = position
         .par_chunks(CHUNK)

@@ -1,21 +1,34 @@
-//! Monomer–wall force pass (Sect. 2.2): JKR with R = r, damping against the wall velocity,
-//! rolling, sliding about the anchor and twisting; sums the force each wall exerts.
+//! Monomer–wall contacts (Sect. 2.2: JKR with R = r, damping against the wall velocity,
+//! rolling, sliding about the anchor and twisting) and the gather of every monomer's forces:
+//! the twins of `wall_contacts` and `wall_forces` in shaders/passes/walls.wgsl and of
+//! `reduce_walls_final` in shaders/passes/reduce.wgsl.
 //!
-//! As on the device: each monomer evaluates its wall contacts into per-slot results, adds them
-//! to its accumulators in slot order, and the per-wall totals are summed in the fixed block
-//! order of [`reduce_walls`] (the twin of the device's reduction), so they do not depend on the
-//! thread count and equal the device's bits.
+//! As on the device: the contacts pass evaluates each monomer's wall contacts into per-slot
+//! results ([`wall_contacts_of`]); `wall_forces` gathers per monomer the pair results (the
+//! contacts it is the partner of, by owner and slot, then its own slots), then its wall
+//! results in slot order, books the step's work and sums the wall forces per block of
+//! [`REDUCE_BLOCK`] monomers; `reduce_walls_final` adds the blocks in order. So nothing depends
+//! on the thread count and the forces equal the device's bits.
 
-use super::workspace::{each_accumulator, split_len, sum_in_order, Workspace, CHUNK};
+use super::workspace::{split_len, Workspace, CHUNK};
+use crate::backend::script::{OWNER_INDEX, OWNER_WALLS};
 use crate::model::{twisting, wall as wall_law, ContactLaw};
 use crate::state::interaction::{
     wall_geometry, wall_interaction_at, wall_normal_potential, wall_step_energy_at, WallGeometry,
     WallMotion,
 };
-use crate::state::reduction::reduce_walls;
+use crate::state::reduction::{reduce_walls_block, reduce_walls_final_from, REDUCE_BLOCK};
 use crate::state::{ContactTable, Dissipation, Monomers, Wall, WallContact};
 use glam::DVec3;
 use rayon::prelude::*;
+
+/// What one wall contact exerts on its monomer: the force, its damping part, the torque.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct WallResult {
+    pub force: DVec3,
+    pub damping: DVec3,
+    pub torque: DVec3,
+}
 
 /// Inelastic limits of a wall contact; everything dissipated goes to the `walls` channel.
 pub fn apply_wall_inelastic_limits(
@@ -78,84 +91,187 @@ pub fn apply_wall_inelastic_limits_at(
     }
 }
 
-/// Every wall contact's corrections and force, monomer by monomer in parallel, into the
-/// workspace's per-slot results. Returns what the corrections dissipated.
-pub fn wall_forces_per_slot(
+/// The wall contacts of monomer `i` (`rows`, its contacts in slot order): inelastic limits,
+/// then forces into `results` (one per slot). Twin of `wall_contacts_of` in
+/// shaders/engine/owner.wgsl.
+#[allow(clippy::too_many_arguments)]
+pub fn wall_contacts_of(
+    law: &ContactLaw,
+    dt: f64,
+    walls: &[Wall],
+    monomers: &Monomers,
+    i: usize,
+    rows: &mut [WallContact],
+    results: &mut [WallResult],
+    tally: &mut Dissipation,
+) {
+    let x = monomers.position[i];
+    for (c, out) in rows.iter_mut().zip(results) {
+        let wall = &walls[c.wall as usize];
+        let g = wall_geometry(law, x, monomers.velocity[i], wall);
+        apply_wall_inelastic_limits_at(law, monomers, &g, dt, i, wall, c, tally);
+        let (force, damping, torque) = wall_interaction_at(law, &g, x, wall, c);
+        *out = WallResult {
+            force,
+            damping,
+            torque,
+        };
+    }
+}
+
+/// [`wall_contacts_of`] for the monomers `contacts_scan` listed with [`OWNER_WALLS`], without
+/// their contact events: the step does it in the contacts pass, after the events; this lets
+/// the forces be tested on a state whose events have not run. Returns what the limits
+/// dissipated.
+pub fn wall_contacts(
     law: &ContactLaw,
     dt: f64,
     walls: &[Wall],
     monomers: &Monomers,
     table: &mut ContactTable,
+    work: &[u32],
     workspace: &mut Workspace,
 ) -> Dissipation {
-    let slots = table.wall_slots;
-    let len = monomers.len() * slots;
-    // Slots beyond a monomer's count are never read, so stale values there are harmless.
-    for v in [
-        &mut workspace.wall_force,
-        &mut workspace.wall_damping,
-        &mut workspace.wall_torque,
-    ] {
-        v.resize(len, DVec3::ZERO);
+    let ws = table.wall_slots;
+    workspace.size_wall_results(monomers.len() * ws);
+    let mut tally = Dissipation::default();
+    for &item in work.iter().filter(|w| *w & OWNER_WALLS != 0) {
+        let i = (item & OWNER_INDEX) as usize;
+        let slots = i * ws..i * ws + table.wall_count[i] as usize;
+        wall_contacts_of(
+            law,
+            dt,
+            walls,
+            monomers,
+            i,
+            &mut table.wall[slots.clone()],
+            &mut workspace.wall_result[slots],
+            &mut tally,
+        );
     }
-    let counts = &table.wall_count;
-    let chunks: Vec<Dissipation> = (
-        table.wall.par_chunks_mut(CHUNK * slots),
-        workspace.wall_force.par_chunks_mut(CHUNK * slots),
-        workspace.wall_damping.par_chunks_mut(CHUNK * slots),
-        workspace.wall_torque.par_chunks_mut(CHUNK * slots),
-    )
-        .into_par_iter()
-        .with_min_len(split_len(monomers.len(), CHUNK))
-        .enumerate()
-        .map(|(chunk, (rows, forces, dampings, torques))| {
-            let mut tally = Dissipation::default();
-            for k in 0..rows.len() / slots {
-                let i = chunk * CHUNK + k;
-                for s in k * slots..k * slots + counts[i] as usize {
-                    let c = &mut rows[s];
-                    let wall = &walls[c.wall as usize];
-                    let x = monomers.position[i];
-                    let g = wall_geometry(law, x, monomers.velocity[i], wall);
-                    apply_wall_inelastic_limits_at(law, monomers, &g, dt, i, wall, c, &mut tally);
-                    let (f, fd, m) = wall_interaction_at(law, &g, x, wall, c);
-                    forces[s] = f;
-                    dampings[s] = fd;
-                    torques[s] = m;
-                }
-            }
-            tally
-        })
-        .collect();
-    sum_in_order(&chunks)
+    tally
 }
 
-/// Adds wall contacts to the accumulators; fills `wall_force` and `wall_damping` with the total
-/// force (and its damping part) each wall exerts on the monomers.
-#[allow(clippy::too_many_arguments)]
+/// Every monomer's force, damping force and torque: the pair results it is the partner of (in
+/// owner and slot order, negated; the partner's torque), its own (the owner's torque), then its
+/// wall results in slot order. Books the damping work of the step by the trapezoid rule,
+/// ½ (F_d(n) + F_d(n+1))·v dt per monomer, summed per chunk and over chunks in order (which
+/// matches the leap-frog's kinetic energy change up to a bounded, telescoping term), and sums
+/// the wall forces per block for `reduce_walls_final`.
 pub fn wall_forces(
-    law: &ContactLaw,
     dt: f64,
     walls: &[Wall],
     monomers: &mut Monomers,
-    table: &mut ContactTable,
-    tally: &mut Dissipation,
-    wall_force: &mut [DVec3],
-    wall_damping: &mut [DVec3],
+    table: &ContactTable,
     workspace: &mut Workspace,
 ) {
-    let dissipated = wall_forces_per_slot(law, dt, walls, monomers, table, workspace);
-    let slots = table.wall_slots;
-    let counts = &table.wall_count;
-    let ws = &*workspace;
-    each_accumulator(monomers, |i, force, damping, torque| {
-        for s in i * slots..i * slots + counts[i] as usize {
-            *force += ws.wall_force[s];
-            *damping += ws.wall_damping[s];
-            *torque += ws.wall_torque[s];
-        }
-    });
-    wall_force.copy_from_slice(&reduce_walls(table, &ws.wall_force, walls.len()));
-    wall_damping.copy_from_slice(&reduce_walls(table, &ws.wall_damping, walls.len()));
-    tally.add(&dissipated);
+    let n = monomers.len();
+    // Per block one sum per wall (at least one, so that the chunks below exist without walls).
+    let stride = walls.len().max(1);
+    let blocks = n.div_ceil(REDUCE_BLOCK);
+    let mut partials = std::mem::take(&mut workspace.wall_partials);
+    let mut damping_partials = std::mem::take(&mut workspace.wall_damping_partials);
+    for p in [&mut partials, &mut damping_partials] {
+        p.clear();
+        p.resize(blocks * stride, DVec3::ZERO);
+    }
+    let ws_ref = &*workspace;
+    let Monomers {
+        velocity,
+        force,
+        damping_force,
+        torque,
+        ..
+    } = monomers;
+    let chunk_work: Vec<f64> = (
+        force.par_chunks_mut(CHUNK),
+        damping_force.par_chunks_mut(CHUNK),
+        torque.par_chunks_mut(CHUNK),
+        partials.par_chunks_mut(CHUNK / REDUCE_BLOCK * stride),
+        damping_partials.par_chunks_mut(CHUNK / REDUCE_BLOCK * stride),
+    )
+        .into_par_iter()
+        .with_min_len(split_len(n, CHUNK))
+        .enumerate()
+        .map(|(chunk, (force, damping, torque, sums, damping_sums))| {
+            let first = chunk * CHUNK;
+            let mut work = 0.0;
+            for k in 0..force.len() {
+                let i = first + k;
+                let (f, fd, t) = gather(i, ws_ref, table);
+                work += 0.5 * (damping[k] + fd).dot(velocity[i] * dt);
+                force[k] = f;
+                damping[k] = fd;
+                torque[k] = t;
+            }
+            let results = &ws_ref.wall_result;
+            let blocks = sums.chunks_mut(stride).zip(damping_sums.chunks_mut(stride));
+            for (b, (s, d)) in blocks.enumerate() {
+                let block = first / REDUCE_BLOCK + b;
+                reduce_walls_block(table, |idx| results[idx].force, block, s);
+                reduce_walls_block(table, |idx| results[idx].damping, block, d);
+            }
+            work
+        })
+        .collect();
+    let mut damping_work = 0.0;
+    for w in chunk_work {
+        damping_work += w;
+    }
+    workspace.damping_work = damping_work;
+    workspace.wall_partials = partials;
+    workspace.wall_damping_partials = damping_partials;
+}
+
+/// Monomer `i`'s force, damping force and torque from the per-contact results.
+fn gather(i: usize, workspace: &Workspace, table: &ContactTable) -> (DVec3, DVec3, DVec3) {
+    let incoming = &workspace.incoming;
+    let owner_start = incoming.owner_start();
+    let results = &workspace.pair_result;
+    let (mut f, mut fd, mut t) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
+    for &idx in incoming.of(i) {
+        let r = &results[idx as usize];
+        f -= r.force;
+        fd -= r.damping;
+        t += r.torque_partner;
+    }
+    for r in &results[owner_start[i] as usize..owner_start[i + 1] as usize] {
+        f += r.force;
+        fd += r.damping;
+        t += r.torque_owner;
+    }
+    let ws = table.wall_slots;
+    for r in &workspace.wall_result[i * ws..i * ws + table.wall_count[i] as usize] {
+        f += r.force;
+        fd += r.damping;
+        t += r.torque;
+    }
+    (f, fd, t)
+}
+
+/// The force (and its damping part) each wall exerts at this step: the blocks of
+/// `wall_forces` added in order. Then the walls' share of the step's work by the trapezoid
+/// rule, ½ (F_w(n) + F_w(n+1))·v_w dt, with the forces of the step before: the wall work, and
+/// the damping against the walls, which joins the monomers' damping work in the tally.
+#[allow(clippy::too_many_arguments)]
+pub fn reduce_walls_final(
+    dt: f64,
+    walls: &[Wall],
+    workspace: &Workspace,
+    wall_force: &mut [DVec3],
+    wall_damping: &mut [DVec3],
+    tally: &mut Dissipation,
+    wall_work: &mut f64,
+) {
+    let force = reduce_walls_final_from(&workspace.wall_partials, walls.len());
+    let damping = reduce_walls_final_from(&workspace.wall_damping_partials, walls.len());
+    let mut damping_work = workspace.damping_work;
+    for (w, wall) in walls.iter().enumerate() {
+        let travel = wall.velocity * dt;
+        damping_work -= 0.5 * (wall_damping[w] + damping[w]).dot(travel);
+        *wall_work += 0.5 * (wall_force[w] + force[w]).dot(travel);
+    }
+    tally.damping -= damping_work;
+    wall_force.copy_from_slice(&force);
+    wall_damping.copy_from_slice(&damping);
 }

@@ -2,9 +2,9 @@
 //! fixed chunking that makes every sum independent of the thread count.
 
 use super::forces::PairResult;
-use crate::state::{ContactTable, Dissipation, Monomers};
+use super::walls::WallResult;
+use crate::state::{ContactTable, Dissipation};
 use glam::DVec3;
-use rayon::prelude::*;
 
 /// Monomers per unit of parallel work. Sums that leave the monomer loop (dissipation, work) are
 /// taken per chunk in monomer order and then over chunks in order: the chunks are fixed by this
@@ -24,35 +24,6 @@ pub fn split_len(n: usize, unit: usize) -> usize {
     } else {
         (CHUNK / unit).max(1)
     }
-}
-
-/// Calls `add(i, force, damping force, torque)` on every monomer's accumulators, in parallel
-/// over chunks (a plain loop within each: per-element parallel iterators over several arrays
-/// compiled to much slower loops).
-pub fn each_accumulator(
-    monomers: &mut Monomers,
-    add: impl Fn(usize, &mut DVec3, &mut DVec3, &mut DVec3) + Send + Sync,
-) {
-    let n = monomers.len();
-    let m = monomers;
-    (
-        m.force.par_chunks_mut(CHUNK),
-        m.damping_force.par_chunks_mut(CHUNK),
-        m.torque.par_chunks_mut(CHUNK),
-    )
-        .into_par_iter()
-        .with_min_len(split_len(n, CHUNK))
-        .enumerate()
-        .for_each(|(chunk, (force, damping, torque))| {
-            for (k, ((f, d), t)) in force
-                .iter_mut()
-                .zip(damping.iter_mut())
-                .zip(torque.iter_mut())
-                .enumerate()
-            {
-                add(chunk * CHUNK + k, f, d, t);
-            }
-        });
 }
 
 /// Sums per-chunk tallies in chunk order.
@@ -146,8 +117,25 @@ pub struct Workspace {
     /// Whether `incoming` describes the table as it is: the contacts pass clears it when a
     /// contact forms or breaks (the only changes that move slots).
     pub partner_index_current: bool,
-    /// Per wall-contact slot: force on the monomer, its damping part, torque.
-    pub wall_force: Vec<DVec3>,
-    pub wall_damping: Vec<DVec3>,
-    pub wall_torque: Vec<DVec3>,
+    /// Per wall-contact slot (`i * wall_slots + s`): what the contact exerts.
+    pub wall_result: Vec<WallResult>,
+    /// Per monomer: the tests of its pair contacts (`PAIR_TEST_*` bits of `backend::script`),
+    /// from `integrate_pairs` or `contacts_pair_tests`.
+    pub pair_tests: Vec<u32>,
+    /// `contacts_scan`'s list: owner index | `OWNER_*` bits, by ascending owner.
+    pub work: Vec<u32>,
+    /// Per block of `REDUCE_BLOCK` monomers, per wall: the wall forces and their damping parts
+    /// summed by `wall_forces`, for `reduce_walls_final`.
+    pub wall_partials: Vec<DVec3>,
+    pub wall_damping_partials: Vec<DVec3>,
+    /// The monomers' damping work of the step, summed by `wall_forces`.
+    pub damping_work: f64,
+}
+
+impl Workspace {
+    /// Makes room for `len` wall-contact results (slots beyond a monomer's count are never
+    /// read, so stale values there are harmless).
+    pub fn size_wall_results(&mut self, len: usize) {
+        self.wall_result.resize(len, WallResult::default());
+    }
 }

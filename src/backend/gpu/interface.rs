@@ -1,13 +1,15 @@
 //! The GPU engine's interface as the shaders declare it, generated at build time (`build.rs`):
-//! [`Binding`] (every binding of shaders/engine/bindings.wgsl, by number), [`Kernel`] (every
-//! entry point of shaders/passes/) and [`wgsl_constants`] (the shared numbers: work lists,
-//! flags, the diagnostics and row blocks). The host names a buffer by its `Binding` variant and
+//! [`Binding`] (every binding of shaders/engine/bindings.wgsl, by number) and
+//! [`wgsl_constants`] (the shared numbers: work lists, flags, the diagnostics and row blocks);
+//! [`Kernel`] (every entry point of shaders/passes/) lives in `backend::script`, which the CPU
+//! engine runs too. The host names a buffer by its `Binding` variant and
 //! a pass by its `Kernel` variant, so a typo is a compile error and a binding added to the WGSL
 //! appears here (and must get a size in `buffers::Sizes::bytes`, an exhaustive match).
 //!
 //! The tests below hold the generated items to naga's reading of the same files.
 
 include!(concat!(env!("OUT_DIR"), "/gpu_interface.rs"));
+pub use crate::backend::script::Kernel;
 
 #[cfg(test)]
 mod tests {

@@ -222,76 +222,58 @@ fn damping_tags_and_layout_match_the_host_encoding() {
     assert_eq!(std::mem::offset_of!(layout::GpuDamping, value), 8);
 }
 
-/// Where the CPU twins of the entry points are: the CPU backend's passes, and the fixed
-/// reduction order in the state.
+/// Where the CPU twins of the entry points are: the CPU backend's passes (the executor runs
+/// each by its entry point's name), and the fixed reduction order in the state.
 const CPU_TWIN_FILES: &[&str] = &[
     "src/backend/cpu/integrate.rs",
     "src/backend/cpu/neighbours.rs",
+    "src/backend/cpu/scan.rs",
     "src/backend/cpu/contacts.rs",
     "src/backend/cpu/forces.rs",
     "src/backend/cpu/walls.rs",
+    "src/backend/cpu/executor.rs",
     "src/state/reduction.rs",
     "src/state/rows.rs",
 ];
 
-/// Entry points with no CPU function of the same name, and the test (file, function) that
-/// holds what each leaves on the device to the CPU's end state. DESIGN.md ("The twins") says
-/// why each has none.
-const GPU_ONLY: &[(&str, &str, &str)] = &[
+/// The tests that run each entry point and its CPU twin from the same state and compare what
+/// they write: a test named after the entry point in tests/gpu_passes/by_pass.rs, except for
+/// the read passes, whose twins are functions of the state, held by these (file, test).
+const READ_PASS_TESTS: &[(&str, &str, &str)] = &[
     (
-        "integrate_kick_with_wall_sums",
-        "tests/gpu_passes.rs",
-        "a_submission_of_several_steps_is_the_same_steps_one_by_one",
-    ),
-    (
-        "integrate_start",
-        "tests/gpu_trajectory.rs",
-        "a_200_monomer_aggregate_between_walls_follows_the_cpu",
-    ),
-    (
-        "integrate_clear_work",
-        "tests/gpu_trajectory.rs",
-        "a_200_monomer_aggregate_between_walls_follows_the_cpu",
-    ),
-    (
-        "neighbours",
-        "tests/gpu_passes.rs",
-        "contacts_match_their_cpu_twin",
-    ),
-    (
-        "neighbours_list",
-        "tests/gpu_passes.rs",
-        "contacts_match_their_cpu_twin",
-    ),
-    (
-        "contacts_scan",
-        "tests/gpu_passes.rs",
-        "contacts_match_their_cpu_twin",
-    ),
-    (
-        "contacts_clear_tally",
-        "tests/gpu_trajectory.rs",
-        "a_200_monomer_aggregate_between_walls_follows_the_cpu",
-    ),
-    (
-        "contacts_pair_tests",
-        "tests/gpu_passes.rs",
-        "contacts_match_their_cpu_twin",
-    ),
-    (
-        "forces_corrections",
-        "tests/gpu_passes.rs",
-        "forces_and_walls_match_their_cpu_twins",
-    ),
-    (
-        "wall_contacts",
-        "tests/gpu_passes.rs",
-        "forces_and_walls_match_their_cpu_twins",
-    ),
-    (
-        "reduce_walls_final",
+        "reduce_diagnostics",
         "tests/gpu_passes.rs",
         "reductions_match_their_cpu_twin_to_the_bit",
+    ),
+    (
+        "row_sums",
+        "tests/gpu_rows.rs",
+        "row_kernels_match_their_cpu_twins_to_the_bit",
+    ),
+    (
+        "row_sums_final",
+        "tests/gpu_rows.rs",
+        "row_kernels_match_their_cpu_twins_to_the_bit",
+    ),
+    (
+        "row_profile",
+        "tests/gpu_rows.rs",
+        "row_kernels_match_their_cpu_twins_to_the_bit",
+    ),
+    (
+        "row_profile_final",
+        "tests/gpu_rows.rs",
+        "row_kernels_match_their_cpu_twins_to_the_bit",
+    ),
+    (
+        "row_raster",
+        "tests/gpu_rows.rs",
+        "row_kernels_match_their_cpu_twins_to_the_bit",
+    ),
+    (
+        "row_area",
+        "tests/gpu_rows.rs",
+        "row_kernels_match_their_cpu_twins_to_the_bit",
     ),
 ];
 
@@ -314,32 +296,35 @@ fn read(path: &str) -> String {
 }
 
 #[test]
-fn every_entry_point_has_a_cpu_twin_or_a_parity_test() {
+fn every_entry_point_has_a_cpu_twin_and_a_pass_test() {
     let cpu: BTreeSet<String> = CPU_TWIN_FILES
         .iter()
-        .flat_map(|f| declared(&read(f), "pub fn "))
+        .flat_map(|f| {
+            let text = read(f);
+            declared(&text, "pub fn ")
+                .union(&declared(&text, "    pub fn "))
+                .cloned()
+                .collect::<Vec<_>>()
+        })
         .collect();
+    let by_pass = read("tests/gpu_passes/by_pass.rs");
     let entries: Vec<String> = PASSES.iter().flat_map(|p| entry_points(p.text)).collect();
-    assert!(entries.len() >= 18, "{entries:?}");
+    assert_eq!(
+        entries.len(),
+        super::interface::Kernel::COUNT,
+        "{entries:?}"
+    );
     let mut wrong = Vec::new();
     for name in &entries {
-        let gpu_only = GPU_ONLY.iter().find(|(n, _, _)| n == name);
-        match (cpu.contains(name), gpu_only) {
-            (true, None) => {}
-            (false, Some((_, file, test))) => {
-                if !read(file).contains(&format!("fn {test}(")) {
-                    wrong.push(format!("{name}: {file} has no test {test}"));
-                }
-            }
-            (true, Some(_)) => wrong.push(format!("{name} has a CPU twin: not GPU-only")),
-            (false, None) => wrong.push(format!(
-                "{name}: no `pub fn {name}(` in {CPU_TWIN_FILES:?} and not listed in GPU_ONLY"
-            )),
+        if !cpu.contains(name) {
+            wrong.push(format!("{name}: no `pub fn {name}(` in {CPU_TWIN_FILES:?}"));
         }
-    }
-    for (name, _, _) in GPU_ONLY {
-        if !entries.contains(&name.to_string()) {
-            wrong.push(format!("GPU_ONLY lists {name}, which is no entry point"));
+        let held = match READ_PASS_TESTS.iter().find(|(n, _, _)| n == name) {
+            Some((_, file, test)) => read(file).contains(&format!("fn {test}(")),
+            None => by_pass.contains(&format!("\nfn {name}() {{")),
+        };
+        if !held {
+            wrong.push(format!("{name}: no test runs it beside its twin"));
         }
     }
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));

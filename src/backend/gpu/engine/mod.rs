@@ -21,7 +21,7 @@ pub use error::GpuError;
 
 use super::buffers::{Buffers, Sizes};
 use super::context::GpuContext;
-use super::kernels::{Kernel, Kernels};
+use super::kernels::Kernels;
 use super::layout::{self, GpuConstants, GpuDamping, GpuParams};
 use super::shader::Precision;
 use crate::engine::{Engine, EngineError, SKIN_RADII};
@@ -115,21 +115,7 @@ impl GpuEngine {
             .create_command_encoder(&Default::default());
         {
             let mut pass = encoder.begin_compute_pass(&Default::default());
-            engine.encode(
-                &mut pass,
-                &[
-                    Kernel::Neighbours,
-                    Kernel::NeighboursList,
-                    Kernel::ContactsScan,
-                    Kernel::Contacts,
-                    Kernel::ContactsClearTally,
-                    Kernel::Forces,
-                    Kernel::WallForces,
-                    Kernel::ReduceWallsFinal,
-                    Kernel::IntegrateClearWork,
-                    Kernel::IntegrateStart,
-                ],
-            );
+            engine.encode(&mut pass, &crate::backend::script::START);
         }
         engine.ctx.queue.submit([encoder.finish()]);
         engine.read_small()?;

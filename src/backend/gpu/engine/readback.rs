@@ -281,6 +281,12 @@ impl GpuEngine {
             .collect()
     }
 
+    /// The first `count` values of `binding` as the host lays them out: what a pass left on the
+    /// device, for the tests that hold each pass to its CPU twin.
+    pub fn read_binding<T: bytemuck::Pod>(&self, binding: Binding, count: usize) -> Vec<T> {
+        self.read(binding, count)
+    }
+
     /// Per-monomer energy tallies (the seven dissipation channels, then the wall work) since
     /// the small block was last read.
     pub fn monomer_tallies(&self) -> Vec<[f64; layout::TALLY_STRIDE]> {

@@ -7,23 +7,8 @@ use crate::state::simulated_time;
 use glam::DVec3;
 
 impl GpuEngine {
-    /// The dispatches of one step, in order. `contacts_scan` lists the owners with contact
-    /// events, a contact beyond an inelastic limit or wall contacts, and `contacts` runs over
-    /// that list only
-    /// (an indirect dispatch sized on the device); `wall_forces` also sums the wall forces per
-    /// block, which `reduce_walls_final` adds up.
-    pub const STEP: [Kernel; 10] = [
-        Kernel::IntegrateKick,
-        Kernel::IntegratePairs,
-        Kernel::IntegrateDrift,
-        Kernel::Neighbours,
-        Kernel::NeighboursList,
-        Kernel::ContactsScan,
-        Kernel::Contacts,
-        Kernel::Forces,
-        Kernel::WallForces,
-        Kernel::ReduceWallsFinal,
-    ];
+    /// The dispatches of one step, in order: the step script both engines run.
+    pub const STEP: [Kernel; 10] = crate::backend::script::STEP;
 
     /// Every kernel a submission of several steps runs, in step order: those of
     /// [`GpuEngine::STEP`], and after the kick `integrate_kick_with_wall_sums`, which starts

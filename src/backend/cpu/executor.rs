@@ -1,0 +1,122 @@
+//! The CPU engine's executor of the step script (`backend::script`): each pass is the CPU
+//! function of its entry point's name, on the engine's state and workspace. The match covers
+//! every [`Kernel`], so an entry point added to the WGSL has no CPU engine until it has a twin.
+
+use super::contacts::contacts;
+use super::forces::{forces, forces_corrections};
+use super::integrate::{
+    integrate_clear_work, integrate_drift, integrate_kick, integrate_pairs, integrate_start,
+};
+use super::neighbours::{neighbours, neighbours_list};
+use super::scan::{contacts_clear_tally, contacts_pair_tests, contacts_scan};
+use super::walls::{reduce_walls_final, wall_contacts, wall_forces};
+use super::CpuEngine;
+use crate::backend::script::Kernel;
+use crate::engine::EngineError;
+
+impl CpuEngine {
+    /// Runs one pass of the script on the engine's state.
+    ///
+    /// The read passes (`reduce_diagnostics`, `row_*`) change nothing: the device runs them to
+    /// fill the small block it reads back, the CPU reads its state directly through their
+    /// twins in `state::reduction` and `state::rows`, so here they are no-ops.
+    pub fn run_pass(&mut self, pass: Kernel) -> Result<(), EngineError> {
+        if pass == Kernel::IntegrateKickWithWallSums {
+            return self.integrate_kick_with_wall_sums();
+        }
+        let (im, ii) = (1.0 / self.law.mass, 1.0 / self.law.moment_of_inertia);
+        let s = &mut self.state;
+        let w = &mut self.workspace;
+        let list = &mut self.neighbours;
+        let (law, dt) = (s.law, s.dt);
+        match pass {
+            Kernel::IntegrateKick => integrate_kick(
+                dt,
+                im,
+                ii,
+                &mut s.monomers,
+                &mut s.contacts,
+                &s.walls,
+                &mut w.pair_tests,
+            ),
+            Kernel::IntegrateKickWithWallSums => unreachable!("handled above"),
+            Kernel::IntegratePairs => {
+                integrate_pairs(&law, dt, &s.monomers, &mut s.contacts, &mut w.pair_tests)
+            }
+            Kernel::IntegrateDrift => integrate_drift(dt, &mut s.monomers, &mut s.walls, list),
+            Kernel::IntegrateStart => integrate_start(dt, im, ii, &mut s.monomers),
+            Kernel::IntegrateClearWork => integrate_clear_work(&mut s.tally, &mut s.wall_work),
+            Kernel::Neighbours => neighbours(&s.monomers.position, list),
+            Kernel::NeighboursList => neighbours_list(&s.monomers.position, list),
+            Kernel::ContactsScan => contacts_scan(
+                &law,
+                &s.monomers,
+                &s.walls,
+                list,
+                &s.contacts,
+                &w.pair_tests,
+                &mut w.work,
+            ),
+            Kernel::Contacts => {
+                let work = std::mem::take(&mut w.work);
+                let changed = contacts(
+                    &law,
+                    dt,
+                    &s.monomers,
+                    &s.walls,
+                    &list.pairs,
+                    &list.starts,
+                    &mut s.contacts,
+                    &mut s.tally,
+                    &work,
+                    w,
+                );
+                w.work = work;
+                if changed? {
+                    w.partner_index_current = false;
+                }
+            }
+            Kernel::ContactsClearTally => contacts_clear_tally(&mut s.tally),
+            Kernel::ContactsPairTests => {
+                contacts_pair_tests(&law, &s.monomers, &s.contacts, &mut w.pair_tests)
+            }
+            Kernel::ForcesCorrections => {
+                let d = forces_corrections(&law, dt, &s.monomers, &mut s.contacts, &w.work);
+                s.tally.add(&d);
+            }
+            Kernel::Forces => forces(&law, &s.monomers, &s.contacts, w),
+            Kernel::WallContacts => {
+                let work = std::mem::take(&mut w.work);
+                let d = wall_contacts(&law, dt, &s.walls, &s.monomers, &mut s.contacts, &work, w);
+                w.work = work;
+                s.tally.add(&d);
+            }
+            Kernel::WallForces => wall_forces(dt, &s.walls, &mut s.monomers, &s.contacts, w),
+            Kernel::ReduceWallsFinal => reduce_walls_final(
+                dt,
+                &s.walls,
+                w,
+                &mut s.wall_force,
+                &mut s.wall_damping,
+                &mut s.tally,
+                &mut s.wall_work,
+            ),
+            Kernel::ReduceDiagnostics
+            | Kernel::RowSums
+            | Kernel::RowSumsFinal
+            | Kernel::RowProfile
+            | Kernel::RowProfileFinal
+            | Kernel::RowRaster
+            | Kernel::RowArea => {}
+        }
+        Ok(())
+    }
+
+    /// The last step's wall sums, then the kick: what the device runs inside a submission of
+    /// several steps (a dispatch fewer per step). The CPU's step ends with
+    /// `reduce_walls_final` itself, so its script never needs this.
+    pub fn integrate_kick_with_wall_sums(&mut self) -> Result<(), EngineError> {
+        self.run_pass(Kernel::ReduceWallsFinal)?;
+        self.run_pass(Kernel::IntegrateKick)
+    }
+}

@@ -1,0 +1,113 @@
+//! What the contacts pass has to do, found before it does it: the twins of `contacts_scan`,
+//! `contacts_pair_tests` and `contacts_clear_tally` in shaders/passes/contacts.wgsl.
+//!
+//! `contacts_scan` lists each owner with a contact event (a contact to break or one to form,
+//! tested exactly as the events test them), a pair contact beyond an inelastic limit (from the
+//! pair tests of `integrate_pairs`), or wall contacts (before or after its events), with what
+//! the contacts pass does for it. Owners not listed have nothing to do there.
+
+use super::neighbours::NeighbourList;
+use super::workspace::{split_len, CHUNK};
+use crate::backend::script::{
+    OWNER_CORRECTIONS, OWNER_EVENTS, OWNER_WALLS, PAIR_TEST_BEYOND, PAIR_TEST_BREAKS,
+};
+use crate::model::{wall as wall_law, ContactLaw};
+use crate::state::{ContactTable, Dissipation, Monomers, Wall};
+use rayon::prelude::*;
+
+/// Lists the owners with work for the contacts pass into `work` (owner index | `OWNER_*` bits,
+/// by ascending owner). Every neighbour pass of the step is done: the list is no longer due.
+#[allow(clippy::too_many_arguments)]
+pub fn contacts_scan(
+    law: &ContactLaw,
+    monomers: &Monomers,
+    walls: &[Wall],
+    list: &mut NeighbourList,
+    table: &ContactTable,
+    pair_tests: &[u32],
+    work: &mut Vec<u32>,
+) {
+    list.rebuild_due = false;
+    let n = monomers.len();
+    let list = &*list;
+    let chunks: Vec<Vec<u32>> = (0..n.div_ceil(CHUNK))
+        .into_par_iter()
+        .with_min_len(split_len(n, CHUNK))
+        .map(|chunk| {
+            (chunk * CHUNK..((chunk + 1) * CHUNK).min(n))
+                .filter_map(|i| owner_work(law, monomers, walls, list, table, pair_tests[i], i))
+                .collect()
+        })
+        .collect();
+    work.clear();
+    for c in chunks {
+        work.extend(c);
+    }
+}
+
+/// Owner `i`'s work item, if it has work.
+fn owner_work(
+    law: &ContactLaw,
+    monomers: &Monomers,
+    walls: &[Wall],
+    list: &NeighbourList,
+    table: &ContactTable,
+    tests: u32,
+    i: usize,
+) -> Option<u32> {
+    let r = law.radius;
+    let pos = &monomers.position;
+    let mut event = tests & PAIR_TEST_BREAKS != 0;
+    let beyond = tests & PAIR_TEST_BEYOND != 0;
+    let mut touching_wall_contacts = 0;
+    for c in table.walls_of(i).iter() {
+        let w = &walls[c.wall as usize];
+        let delta = wall_law::wall_overlap(pos[i], w.point, w.normal, r);
+        event |= delta < -w.constants.delta_c;
+        touching_wall_contacts += usize::from(touching(delta));
+    }
+    // Candidates that touch and are not partners yet (the device's lists hold no partners).
+    let candidates = &list.pairs[list.starts[i] as usize..list.starts[i + 1] as usize];
+    let forming = candidates.iter().any(|&(_, j)| {
+        touching(2.0 * r - (pos[i] - pos[j as usize]).length()) && !table.has_pair(i, j)
+    });
+    let touching_walls = walls
+        .iter()
+        .filter(|w| touching(wall_law::wall_overlap(pos[i], w.point, w.normal, r)))
+        .count();
+    let forms_wall_contact = touching_walls > touching_wall_contacts;
+    event |= forming || forms_wall_contact;
+    let wall_work = table.wall_count[i] > 0 || forms_wall_contact;
+    let bits = if event { OWNER_EVENTS } else { 0 }
+        | if beyond { OWNER_CORRECTIONS } else { 0 }
+        | if wall_work { OWNER_WALLS } else { 0 };
+    (bits != 0).then_some(i as u32 | bits)
+}
+
+/// An overlap that is not negative: touching, as the events test it (`!(δ < 0)`, so a NaN
+/// overlap counts, as in the WGSL).
+fn touching(overlap: f64) -> bool {
+    overlap.partial_cmp(&0.0) != Some(std::cmp::Ordering::Less)
+}
+
+/// The tests `integrate_pairs` makes for `contacts_scan`, on the state as it is (positions not
+/// advanced): for a state the pairs pass has not seen, such as one just loaded.
+pub fn contacts_pair_tests(
+    law: &ContactLaw,
+    monomers: &Monomers,
+    table: &ContactTable,
+    pair_tests: &mut Vec<u32>,
+) {
+    let pos = &monomers.position;
+    pair_tests.clear();
+    pair_tests.extend((0..monomers.len()).map(|i| {
+        table.pairs_of(i).iter().fold(0, |bits, c| {
+            bits | super::integrate::test_pair_contact(law, pos[i], pos[c.partner as usize], c)
+        })
+    }));
+}
+
+/// Contacts present at the start are part of the initial state, not a dissipation.
+pub fn contacts_clear_tally(tally: &mut Dissipation) {
+    *tally = Dissipation::default();
+}
