@@ -109,16 +109,18 @@ pub fn steps_for(seconds: f64, per_step: f64) -> u64 {
 }
 
 /// Runs `run(k)` (k steps, returns the seconds they took) for k = 1, 2, 4, … until one call
-/// takes `at_least` seconds; returns (all steps run, seconds per step of the last call).
+/// takes `at_least` seconds or `budget` steps have run; returns (all steps run, seconds per
+/// step of the last call).
 pub fn probe(
     mut run: impl FnMut(u64) -> Result<f64, String>,
     at_least: f64,
+    budget: u64,
 ) -> Result<(u64, f64), String> {
     let (mut k, mut total) = (1u64, 0u64);
     loop {
         let seconds = run(k)?;
         total += k;
-        if seconds >= at_least || k >= STEPS_RANGE.1 {
+        if seconds >= at_least || k >= STEPS_RANGE.1 || total >= budget {
             return Ok((total, seconds / k as f64));
         }
         // Aim straight at the target once a call is long enough to time.
@@ -126,7 +128,8 @@ pub fn probe(
             ((at_least / seconds * k as f64).ceil() as u64).max(k + 1)
         } else {
             2 * k
-        };
+        }
+        .min(budget.saturating_sub(total).max(1));
     }
 }
 
@@ -185,6 +188,7 @@ mod tests {
                 Ok(k as f64 * 1e-3)
             },
             0.1,
+            u64::MAX,
         )
         .unwrap();
         assert_eq!(*calls.last().unwrap(), 100);
@@ -192,5 +196,21 @@ mod tests {
         assert!((per_step - 1e-3).abs() < 1e-15);
         assert_eq!(steps_for(20.0, 1e-3), 20_000);
         assert_eq!(steps_for(20.0, 100.0), STEPS_RANGE.0);
+    }
+
+    #[test]
+    fn probes_stop_at_their_budget() {
+        let mut calls = Vec::new();
+        let (total, _) = probe(
+            |k| {
+                calls.push(k);
+                Ok(k as f64 * 1e-9)
+            },
+            0.1,
+            10,
+        )
+        .unwrap();
+        assert_eq!(calls, [1, 2, 4, 3]);
+        assert_eq!(total, 10);
     }
 }

@@ -262,6 +262,7 @@ fn measure_size(
     let (probed, per_step) = probe(
         |k| measure::time_cpu(&setup.warm_pool, &mut engine, k),
         at_least,
+        2000,
     )?;
     let warm_total = steps_for(0.1 * options.seconds, per_step).clamp(20, 2000);
     let rest = warm_total.saturating_sub(probed);
@@ -284,6 +285,9 @@ fn measure_size(
     };
     let contacts_per_monomer = 2.0 * start.contacts.pair_contact_count() as f64 / n as f64;
     let phi = prepare::gap_filling_factor(&start);
+    // Each side's probe and measurement stop before the top wall has travelled a quarter of
+    // the gap: a small sample would otherwise be crushed within a long measurement.
+    let room = prepare::steps_to_travel(&start, 0.25);
     progress(&format!(
         "N = {n}, {}: warmed up {warmup_steps} steps, φ {phi:.3}, {contacts_per_monomer:.2} \
          contacts per monomer",
@@ -303,13 +307,13 @@ fn measure_size(
             SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) => {
                 let pool = setup.pools[i].as_ref().expect("a pool per cpu side");
                 let mut e = start_of(&side.kind).clone();
-                probe(|k| measure::time_cpu(pool, &mut e, k), at_least)
+                probe(|k| measure::time_cpu(pool, &mut e, k), at_least, room)
             }
             SideKind::Gpu(precision) => match setup.gpu_ready(precision) {
                 Err(why) => Err(why.clone()),
                 Ok(()) => measure::gpu_engine(&start.state, precision).and_then(|mut e| {
                     r.memory_mib = Some(e.device_bytes() as f64 / f64::from(1u32 << 20));
-                    probe(|k| measure::time_gpu(&mut e, k), at_least)
+                    probe(|k| measure::time_gpu(&mut e, k), at_least, room)
                 }),
             },
             SideKind::Lammps { ranks } => match &setup.lammps {
@@ -331,7 +335,7 @@ fn measure_size(
             },
         };
         match probed {
-            Ok((_, per_step)) => r.steps = steps_for(options.seconds, per_step),
+            Ok((_, per_step)) => r.steps = steps_for(options.seconds, per_step).min(room),
             Err(why) => {
                 let note = format!("N = {n}: {} not measured: {why}", side.label);
                 progress(&note);

@@ -100,6 +100,15 @@ pub fn gap_filling_factor(state: &State) -> f64 {
     state.monomers.len() as f64 * volume / (gap * side_x * side_y)
 }
 
+/// Steps in which the top wall travels `share` of the gap between bottom and top (at least
+/// one).
+pub fn steps_to_travel(state: &State, share: f64) -> u64 {
+    let w = &state.walls;
+    let gap = (w[TOP].point - w[0].point).dot(w[0].normal);
+    let per_step = w[TOP].velocity.length() * state.dt;
+    ((share * gap / per_step.max(f64::MIN_POSITIVE)) as u64).max(1)
+}
+
 /// The file a prepared state is stored in.
 pub fn state_file(dir: &Path, n: usize, phi: f64, speed_m_s: f64) -> PathBuf {
     dir.join(format!("n{n}_phi{phi:.3}_v{speed_m_s}.state"))
