@@ -9,8 +9,7 @@
 //! the thread count.
 
 use super::forces::apply_inelastic_limits;
-use super::prefetch::{prefetch_row_ahead, worthwhile};
-use super::walls::wall_contacts_of;
+use super::walls::{wall_contacts_of, WallResult};
 use super::workspace::{split_len, sum_in_order, Workspace, CHUNK};
 use crate::backend::script::{OWNER_CORRECTIONS, OWNER_EVENTS, OWNER_INDEX, OWNER_WALLS};
 use crate::engine::EngineError;
@@ -34,6 +33,16 @@ pub(super) fn items_of(work: &[u32], first: usize, len: usize) -> &[u32] {
     &work[a..b]
 }
 
+/// What every owner's work reads.
+struct Shared<'a> {
+    law: &'a ContactLaw,
+    dt: f64,
+    monomers: &'a Monomers,
+    walls: &'a [Wall],
+    candidates: &'a [(u32, u32)],
+    starts: &'a [u32],
+}
+
 /// Does what `work` (contacts_scan's list) says for each listed owner: its contact events
 /// (`candidates` are the neighbour-list pairs, i < j, sorted; `starts` where each owner's
 /// begin, [`super::neighbours::owner_starts`]), its pair contacts' inelastic limits, its wall
@@ -54,8 +63,16 @@ pub fn contacts(
 ) -> Result<bool, EngineError> {
     let (ps, ws) = (table.pair_slots, table.wall_slots);
     let n = monomers.len();
-    let prefetching = worthwhile(table);
+    let shared = Shared {
+        law,
+        dt,
+        monomers,
+        walls,
+        candidates,
+        starts,
+    };
     workspace.size_wall_results(n * ws);
+    // Owners are few and far between in the list, so rows are not prefetched here.
     let chunks: Vec<Result<(Dissipation, bool), EngineError>> = (
         table.pair.par_chunks_mut(CHUNK * ps),
         table.pair_count.par_chunks_mut(CHUNK),
@@ -72,49 +89,15 @@ pub fn contacts(
                 let mut changed = false;
                 let first = chunk * CHUNK;
                 for &item in items_of(work, first, pair_counts.len()) {
-                    let i = (item & OWNER_INDEX) as usize;
-                    let k = i - first;
-                    if prefetching {
-                        prefetch_row_ahead(pairs, ps, pair_counts, k);
-                    }
+                    let k = (item & OWNER_INDEX) as usize - first;
                     let mut row = Row {
                         pair: &mut pairs[k * ps..(k + 1) * ps],
                         pair_count: &mut pair_counts[k],
                         wall: &mut wall_rows[k * ws..(k + 1) * ws],
                         wall_count: &mut wall_counts[k],
                     };
-                    if item & OWNER_EVENTS != 0 {
-                        let mine = &candidates[starts[i] as usize..starts[i + 1] as usize];
-                        changed |= contact_events(
-                            law,
-                            dt,
-                            monomers,
-                            walls,
-                            mine,
-                            i,
-                            &mut row,
-                            &mut dissipated,
-                        )?;
-                    }
-                    if item & OWNER_CORRECTIONS != 0 {
-                        for c in &mut row.pair[..*row.pair_count as usize] {
-                            apply_inelastic_limits(law, monomers, dt, i, c, &mut dissipated);
-                        }
-                    }
-                    if item & OWNER_WALLS != 0 {
-                        let count = *row.wall_count as usize;
-                        let slots = k * ws..k * ws + count;
-                        wall_contacts_of(
-                            law,
-                            dt,
-                            walls,
-                            monomers,
-                            i,
-                            &mut row.wall[..count],
-                            &mut results[slots],
-                            &mut dissipated,
-                        );
-                    }
+                    let results = &mut results[k * ws..(k + 1) * ws];
+                    changed |= owner_work(&shared, item, &mut row, results, &mut dissipated)?;
                 }
                 Ok((dissipated, changed))
             },
@@ -128,6 +111,42 @@ pub fn contacts(
         changed |= c;
     }
     tally.add(&sum_in_order(&sums));
+    Ok(changed)
+}
+
+/// One listed owner's work, in the device's order: events, limits, wall contacts. Returns
+/// whether a contact formed or broke.
+fn owner_work(
+    s: &Shared,
+    item: u32,
+    row: &mut Row,
+    wall_results: &mut [WallResult],
+    dissipated: &mut Dissipation,
+) -> Result<bool, EngineError> {
+    let i = (item & OWNER_INDEX) as usize;
+    let mut changed = false;
+    if item & OWNER_EVENTS != 0 {
+        let mine = &s.candidates[s.starts[i] as usize..s.starts[i + 1] as usize];
+        changed = contact_events(s.law, s.dt, s.monomers, s.walls, mine, i, row, dissipated)?;
+    }
+    if item & OWNER_CORRECTIONS != 0 {
+        for c in &mut row.pair[..*row.pair_count as usize] {
+            apply_inelastic_limits(s.law, s.monomers, s.dt, i, c, dissipated);
+        }
+    }
+    if item & OWNER_WALLS != 0 {
+        let count = *row.wall_count as usize;
+        wall_contacts_of(
+            s.law,
+            s.dt,
+            s.walls,
+            s.monomers,
+            i,
+            &mut row.wall[..count],
+            &mut wall_results[..count],
+            dissipated,
+        );
+    }
     Ok(changed)
 }
 

@@ -57,25 +57,7 @@ impl CpuEngine {
                 &w.pair_tests,
                 &mut w.work,
             ),
-            Kernel::Contacts => {
-                let work = std::mem::take(&mut w.work);
-                let changed = contacts(
-                    &law,
-                    dt,
-                    &s.monomers,
-                    &s.walls,
-                    &list.pairs,
-                    &list.starts,
-                    &mut s.contacts,
-                    &mut s.tally,
-                    &work,
-                    w,
-                );
-                w.work = work;
-                if changed? {
-                    w.partner_index_current = false;
-                }
-            }
+            Kernel::Contacts => return self.contacts_of_the_listed_owners(),
             Kernel::ContactsClearTally => contacts_clear_tally(&mut s.tally),
             Kernel::ContactsPairTests => {
                 contacts_pair_tests(&law, &s.monomers, &s.contacts, &mut w.pair_tests)
@@ -118,5 +100,31 @@ impl CpuEngine {
     pub fn integrate_kick_with_wall_sums(&mut self) -> Result<(), EngineError> {
         self.run_pass(Kernel::ReduceWallsFinal)?;
         self.run_pass(Kernel::IntegrateKick)
+    }
+
+    /// `contacts` on the work list `contacts_scan` left; a contact formed or broken makes the
+    /// partner index stale.
+    fn contacts_of_the_listed_owners(&mut self) -> Result<(), EngineError> {
+        let s = &mut self.state;
+        let w = &mut self.workspace;
+        let list = &self.neighbours;
+        let work = std::mem::take(&mut w.work);
+        let changed = contacts(
+            &s.law,
+            s.dt,
+            &s.monomers,
+            &s.walls,
+            &list.pairs,
+            &list.starts,
+            &mut s.contacts,
+            &mut s.tally,
+            &work,
+            w,
+        );
+        w.work = work;
+        if changed? {
+            w.partner_index_current = false;
+        }
+        Ok(())
     }
 }
