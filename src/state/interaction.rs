@@ -287,6 +287,7 @@ pub fn wall_step_energy_at(
 /// of `rolling_correction`, `sliding_correction` and `twisting_correction`, on the contact as
 /// stored (if rolling needs none, sliding is tested on the same pointers as there; if it does,
 /// the contact is corrected anyway). Twin of `beyond_limits` in shaders/engine/interaction.wgsl.
+#[inline]
 pub fn beyond_limits(law: &ContactLaw, x1: DVec3, x2: DVec3, c: &PairContact) -> bool {
     use std::cmp::Ordering::{Equal, Less};
     let k = &law.pair;

@@ -114,6 +114,7 @@ pub fn integrate_pairs(
 /// What `contacts_scan` needs to know of one pair contact, at the positions, pointers and twist
 /// the contact events will see: whether it breaks (δ < −δ_c, as the events test it) and whether
 /// it is beyond an inelastic limit ([`PAIR_TEST_BREAKS`], [`PAIR_TEST_BEYOND`]).
+#[inline]
 pub fn test_pair_contact(law: &ContactLaw, x1: DVec3, x2: DVec3, c: &PairContact) -> u32 {
     let delta = 2.0 * law.radius - (x1 - x2).length();
     let breaks = if delta < -law.pair.delta_c {

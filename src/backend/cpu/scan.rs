@@ -7,6 +7,7 @@
 //! the contacts pass does for it. Owners not listed have nothing to do there.
 
 use super::neighbours::NeighbourList;
+use super::prefetch::{prefetch_one, prefetch_row_ahead, worthwhile, PARTNERS_AHEAD};
 use super::workspace::{split_len, CHUNK};
 use crate::backend::script::{
     OWNER_CORRECTIONS, OWNER_EVENTS, OWNER_WALLS, PAIR_TEST_BEYOND, PAIR_TEST_BREAKS,
@@ -30,13 +31,33 @@ pub fn contacts_scan(
     list.rebuild_due = false;
     let n = monomers.len();
     let list = &*list;
+    let ps = table.pair_slots;
+    let prefetching = worthwhile(table);
     let chunks: Vec<Vec<u32>> = (0..n.div_ceil(CHUNK))
         .into_par_iter()
         .with_min_len(split_len(n, CHUNK))
         .map(|chunk| {
-            (chunk * CHUNK..((chunk + 1) * CHUNK).min(n))
-                .filter_map(|i| owner_work(law, monomers, walls, list, table, pair_tests[i], i))
-                .collect()
+            let first = chunk * CHUNK;
+            let end = (first + CHUNK).min(n);
+            let mut items = Vec::new();
+            for i in first..end {
+                if prefetching {
+                    // The owner's row (read for its partners) and its candidates' centres.
+                    let (rows, counts) = (&table.pair[first * ps..], &table.pair_count[first..end]);
+                    prefetch_row_ahead(rows, ps, counts, i - first);
+                    if let Some(ahead) = list.starts.get(i + PARTNERS_AHEAD + 1) {
+                        let from = list.starts[i + PARTNERS_AHEAD] as usize;
+                        for &(_, j) in &list.pairs[from..*ahead as usize] {
+                            prefetch_one(&monomers.position[j as usize]);
+                        }
+                    }
+                }
+                if let Some(item) = owner_work(law, monomers, walls, list, table, pair_tests[i], i)
+                {
+                    items.push(item);
+                }
+            }
+            items
         })
         .collect();
     work.clear();
