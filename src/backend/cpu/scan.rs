@@ -132,3 +132,66 @@ pub fn contacts_pair_tests(
 pub fn contacts_clear_tally(tally: &mut Dissipation) {
     *tally = Dissipation::default();
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::backend::cpu::CpuEngine;
+    use crate::backend::script::Kernel;
+    use crate::material::Material;
+    use crate::model::{ModelOptions, WallFactors};
+    use crate::state::{Monomers, Wall};
+    use glam::DVec3;
+
+    /// One monomer resting on the bottom wall (a contact at time 0) with a side wall 1 µm away.
+    fn corner() -> CpuEngine {
+        let law = ContactLaw::new(&Material::silicate(), &ModelOptions::default());
+        let r = law.radius;
+        let k = law.wall_constants(WallFactors::FULL);
+        let wall = |name: &str, point: DVec3, normal: DVec3| Wall {
+            name: name.into(),
+            point,
+            normal,
+            velocity: DVec3::ZERO,
+            constants: k,
+        };
+        let walls = vec![
+            wall(
+                "bottom",
+                DVec3::new(0.0, 0.0, -r + 0.5 * k.delta0),
+                DVec3::Z,
+            ),
+            wall("side", DVec3::new(r + 1e-4, 0.0, 0.0), -DVec3::X),
+        ];
+        let m = Monomers::new(vec![DVec3::ZERO]);
+        CpuEngine::new(law, 1e-10, m, walls, 12, 3).unwrap()
+    }
+
+    #[test]
+    fn a_monomer_touching_a_second_wall_is_listed_for_its_events_and_forms_the_contact() {
+        let mut e = corner();
+        assert_eq!(
+            e.contacts.wall_count[0], 1,
+            "the bottom contact from the start"
+        );
+        e.run_pass(Kernel::ContactsScan).unwrap();
+        assert_eq!(
+            e.workspace.work,
+            [OWNER_WALLS],
+            "touching the bottom only: walls, no events"
+        );
+        // The side wall moves onto the monomer: a second wall contact to form.
+        let r = e.law.radius;
+        e.state.walls[1].point.x = r - 1e-9;
+        e.run_pass(Kernel::ContactsScan).unwrap();
+        assert_eq!(e.workspace.work, [OWNER_EVENTS | OWNER_WALLS]);
+        e.run_pass(Kernel::Contacts).unwrap();
+        assert_eq!(e.contacts.wall_count[0], 2);
+    }
+
+    #[test]
+    fn touching_counts_zero_and_nan_overlaps() {
+        assert!(touching(0.0) && touching(1e-9) && touching(f64::NAN));
+        assert!(!touching(-1e-300));
+    }
+}
