@@ -52,6 +52,15 @@ const SCANNED: [Kernel; 3] = [
     Kernel::NeighboursList,
     Kernel::ContactsScan,
 ];
+/// The passes of a step up to the gather: what the wall sums and the start passes read.
+const GATHERED: [Kernel; 6] = [
+    Kernel::Neighbours,
+    Kernel::NeighboursList,
+    Kernel::ContactsScan,
+    Kernel::Contacts,
+    Kernel::Forces,
+    Kernel::WallForces,
+];
 
 fn same_monomers(cpu: &CpuEngine, gpu: &GpuEngine) {
     let m = gpu.monomers();
@@ -131,12 +140,7 @@ fn integrate_kick() {
 
 #[test]
 fn integrate_kick_with_wall_sums() {
-    let before = [
-        &SCANNED[..],
-        &[Kernel::Contacts, Kernel::Forces, Kernel::WallForces],
-    ]
-    .concat();
-    let Some((cpu, mut gpu)) = after(Kernel::IntegrateKickWithWallSums, &before) else {
+    let Some((cpu, mut gpu)) = after(Kernel::IntegrateKickWithWallSums, &GATHERED) else {
         return;
     };
     same_monomers(&cpu, &gpu);
@@ -404,12 +408,7 @@ fn wall_forces() {
 
 #[test]
 fn reduce_walls_final() {
-    let before = [
-        &SCANNED[..],
-        &[Kernel::Contacts, Kernel::Forces, Kernel::WallForces],
-    ]
-    .concat();
-    let Some((cpu, mut gpu)) = after(Kernel::ReduceWallsFinal, &before) else {
+    let Some((cpu, mut gpu)) = after(Kernel::ReduceWallsFinal, &GATHERED) else {
         return;
     };
     let d = gpu.refresh_diagnostics().unwrap();
@@ -419,12 +418,7 @@ fn reduce_walls_final() {
 
 #[test]
 fn integrate_start() {
-    let before = [
-        &SCANNED[..],
-        &[Kernel::Contacts, Kernel::Forces, Kernel::WallForces],
-    ]
-    .concat();
-    let Some((cpu, gpu)) = after(Kernel::IntegrateStart, &before) else {
+    let Some((cpu, gpu)) = after(Kernel::IntegrateStart, &GATHERED) else {
         return;
     };
     same_monomers(&cpu, &gpu);
@@ -432,12 +426,7 @@ fn integrate_start() {
 
 #[test]
 fn integrate_clear_work() {
-    let before = [
-        &SCANNED[..],
-        &[Kernel::Contacts, Kernel::Forces, Kernel::WallForces],
-    ]
-    .concat();
-    let Some((cpu, gpu)) = after(Kernel::IntegrateClearWork, &before) else {
+    let Some((cpu, gpu)) = after(Kernel::IntegrateClearWork, &GATHERED) else {
         return;
     };
     let (g, work) = gpu_tally(&gpu);

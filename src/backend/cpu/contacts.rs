@@ -19,15 +19,15 @@ use crate::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallC
 use rayon::prelude::*;
 
 /// One owner's row of the table.
-pub(super) struct Row<'a> {
-    pub pair: &'a mut [PairContact],
-    pub pair_count: &'a mut u32,
-    pub wall: &'a mut [WallContact],
-    pub wall_count: &'a mut u32,
+struct Row<'a> {
+    pair: &'a mut [PairContact],
+    pair_count: &'a mut u32,
+    wall: &'a mut [WallContact],
+    wall_count: &'a mut u32,
 }
 
 /// The work items of the owners `first..first + len` in a list sorted by owner.
-pub(super) fn items_of(work: &[u32], first: usize, len: usize) -> &[u32] {
+fn items_of(work: &[u32], first: usize, len: usize) -> &[u32] {
     let a = work.partition_point(|w| ((w & OWNER_INDEX) as usize) < first);
     let b = work.partition_point(|w| ((w & OWNER_INDEX) as usize) < first + len);
     &work[a..b]

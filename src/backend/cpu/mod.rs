@@ -115,7 +115,7 @@ impl CpuEngine {
     /// tests made on the state as it is (`contacts_pair_tests`, as the device after an upload).
     pub fn from_state(state: State) -> Self {
         let mut neighbours = neighbour_list(&state.law);
-        neighbours.refresh(&state.monomers.position);
+        neighbours.build(&state.monomers.position);
         let mut engine = CpuEngine {
             state,
             neighbours,

@@ -27,7 +27,6 @@ pub struct NeighbourList {
     pub starts: Vec<u32>,
     /// The positions the list was built from.
     pub reference: Vec<DVec3>,
-    pub rebuilds: u64,
     /// Some monomer has moved more than half the skin since `reference` (or there is none):
     /// the neighbour passes rebuild the list.
     pub rebuild_due: bool,
@@ -43,32 +42,17 @@ impl NeighbourList {
             pairs: Vec::new(),
             starts: Vec::new(),
             reference: Vec::new(),
-            rebuilds: 0,
             rebuild_due: true,
             cells: Vec::new(),
         }
     }
 
-    /// Rebuilds the list when it may have gone stale; returns whether it did (the staleness
-    /// test of `integrate_drift`, then the neighbour passes).
-    pub fn refresh(&mut self, position: &[DVec3]) -> bool {
-        let limit = 0.25 * self.skin * self.skin;
-        let stale = self.reference.len() != position.len()
-            || position
-                .par_chunks(CHUNK)
-                .zip(self.reference.par_chunks(CHUNK))
-                .with_min_len(split_len(position.len(), CHUNK))
-                .any(|(p, r)| {
-                    p.iter()
-                        .zip(r)
-                        .any(|(p, r)| (*p - *r).length_squared() > limit)
-                });
-        self.rebuild_due |= stale;
-        let due = self.rebuild_due;
+    /// Builds the list from `position` now (the neighbour passes, due or not).
+    pub fn build(&mut self, position: &[DVec3]) {
+        self.rebuild_due = true;
         neighbours(position, self);
         neighbours_list(position, self);
         self.rebuild_due = false;
-        due
     }
 }
 
@@ -97,7 +81,6 @@ pub fn neighbours_list(position: &[DVec3], list: &mut NeighbourList) {
     list.starts = owner_starts(&list.pairs, position.len());
     list.reference.clear();
     list.reference.extend_from_slice(position);
-    list.rebuilds += 1;
 }
 
 /// For pairs sorted by owner, the index of each owner's first pair (n + 1 entries, the last

@@ -30,21 +30,8 @@ pub struct WallResult {
     pub torque: DVec3,
 }
 
-/// Inelastic limits of a wall contact; everything dissipated goes to the `walls` channel.
-pub fn apply_wall_inelastic_limits(
-    law: &ContactLaw,
-    monomers: &Monomers,
-    dt: f64,
-    i: usize,
-    wall: &Wall,
-    c: &mut WallContact,
-    tally: &mut Dissipation,
-) {
-    let g = wall_geometry(law, monomers.position[i], monomers.velocity[i], wall);
-    apply_wall_inelastic_limits_at(law, monomers, &g, dt, i, wall, c, tally);
-}
-
-/// [`apply_wall_inelastic_limits`] on a contact whose [`WallGeometry`] is known: the step
+/// Inelastic limits of a wall contact whose [`WallGeometry`] is known (everything dissipated
+/// goes to the `walls` channel): the step
 /// energies before and after share it (a correction moves pointer, anchor and twist, never the
 /// monomer), and they are evaluated only where a correction changed the contact.
 #[allow(clippy::too_many_arguments)]

@@ -66,6 +66,22 @@ mod tests {
     }
 
     #[test]
+    fn the_step_scripts_codes_are_the_wgsl_ones() {
+        use crate::backend::script as s;
+        for (name, rust) in [
+            ("OWNER_EVENTS", s::OWNER_EVENTS),
+            ("OWNER_CORRECTIONS", s::OWNER_CORRECTIONS),
+            ("OWNER_WALLS", s::OWNER_WALLS),
+            ("OWNER_INDEX", s::OWNER_INDEX),
+            ("PAIR_TEST_BREAKS", s::PAIR_TEST_BREAKS),
+            ("PAIR_TEST_BEYOND", s::PAIR_TEST_BEYOND),
+        ] {
+            let wgsl = wgsl_constants::ALL.iter().find(|(n, _)| *n == name);
+            assert_eq!(wgsl.map(|(_, v)| *v), Some(rust as usize), "{name}");
+        }
+    }
+
+    #[test]
     fn kernels_are_every_entry_point_of_the_passes() {
         let mut from_naga: Vec<(String, String)> = Vec::new();
         for pass in PASSES {
