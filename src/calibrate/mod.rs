@@ -17,6 +17,7 @@ pub mod figures;
 pub mod gap;
 pub mod grid;
 pub mod held_out;
+mod leaders;
 pub mod measured;
 pub mod outside;
 pub mod predictor;

@@ -7,6 +7,11 @@
 //! between the two models on those samples. A difference on common samples carries much less
 //! sample-to-sample noise than either curve, so the screen needs fewer seeds to rank and
 //! bound the effects; the noise of the prediction stays the full prediction's seed scatter.
+//!
+//! The screen may also run on a smaller sample (`screen_monomers`, multi-fidelity in size):
+//! both the screened configuration and the current model are then simulated at that size on
+//! the screen seeds, and their difference moves the current model's full prediction at the
+//! target size. The gaps, the noise and every full prediction stay at the target size.
 
 use super::gap::{targets, Prediction};
 use super::measured::MeasuredSet;
@@ -24,12 +29,23 @@ enum Raw {
     Sticking(f64),
 }
 
+/// Which of a batch's runs are new requests and count towards the cost.
+#[derive(Clone, Copy, PartialEq)]
+enum Counted {
+    None,
+    All,
+    /// The compressions only: the batch's sticking run repeats one counted before.
+    Compressions,
+}
+
 /// What the predictions of a calibration cost.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Cost {
     /// Compressions requested (a run the cache already held counts too: the count does not
     /// depend on what an earlier calibration left in the cache).
     pub compressions: usize,
+    /// Of `compressions`, those run on the screen's smaller sample (0 without one).
+    pub screen_size_compressions: usize,
     /// Sticking-threshold runs requested.
     pub sticking: usize,
     /// Each requested run's own wall-clock time, summed [s; CPU-seconds where every run had a
@@ -51,6 +67,13 @@ pub struct Predictor<'a> {
     pub settings: &'a Settings,
     pub progress: &'a (dyn Fn(&str) + Sync),
     pub cost: Cost,
+    /// Sample size of the screening runs; 0: the config's own. A copy of the setting that
+    /// the loop sets to 0 for a round that only needs the detection limits, which are always
+    /// taken at the target size.
+    pub screen_monomers: usize,
+    /// The current models whose screen-size reference runs were counted already (repeated
+    /// requests of one reference are cache hits, not new compressions).
+    counted_references: Vec<Config>,
 }
 
 impl<'a> Predictor<'a> {
@@ -66,7 +89,23 @@ impl<'a> Predictor<'a> {
             settings,
             progress,
             cost: Cost::default(),
+            screen_monomers: settings.screen_monomers,
+            counted_references: Vec::new(),
         }
+    }
+
+    /// Whether the screening runs use a sample size other than the config's.
+    fn screens_smaller(&self, config: &Config) -> bool {
+        self.screen_monomers != 0 && self.screen_monomers != config.sample.monomers
+    }
+
+    /// `config` at the screen's sample size.
+    fn at_screen_size(&self, config: &Config) -> Config {
+        let mut c = config.clone();
+        if self.screen_monomers != 0 {
+            c.sample.monomers = self.screen_monomers;
+        }
+        c
     }
 
     /// The seeds a screening prediction runs: the first `screen_seeds` (all when 0).
@@ -78,20 +117,27 @@ impl<'a> Predictor<'a> {
         }
     }
 
-    /// Whether screening predictions are full ones: every seed screened, or no compression
-    /// curve (a sticking velocity does not depend on the sample).
-    pub fn screens_every_seed(&self) -> bool {
+    /// Whether screening predictions are full ones: every seed screened at the target size,
+    /// or no compression curve (a sticking velocity does not depend on the sample).
+    pub fn screens_every_seed(&self, config: &Config) -> bool {
         self.measured.compression.is_empty()
-            || self.screen_seeds().len() == self.settings.seeds.len()
+            || (self.screen_seeds().len() == self.settings.seeds.len()
+                && !self.screens_smaller(config))
     }
 
-    fn runs_for(&self, config: &Config, seeds: &[u64]) -> Vec<Run> {
+    /// The runs predicting every curve; `screen_size` makes the compressions at the screen's
+    /// sample size (a sticking velocity does not depend on the sample).
+    fn runs_for(&self, config: &Config, seeds: &[u64], screen_size: bool) -> Vec<Run> {
         let mut runs = Vec::new();
+        let sample = match screen_size {
+            true => self.at_screen_size(config),
+            false => config.clone(),
+        };
         for c in &self.measured.compression {
             let (_, p_max) = c.pressure_range();
             for &seed in seeds {
                 runs.push(Run::Compression(compression_config(
-                    config, c.geometry, seed, p_max,
+                    &sample, c.geometry, seed, p_max,
                 )));
             }
         }
@@ -101,19 +147,22 @@ impl<'a> Predictor<'a> {
         runs
     }
 
-    /// Every config's raw outputs on `seeds`; `counted` adds the runs to the cost.
+    /// Every config's raw outputs on `seeds` (at the screen's size with `screen_size`);
+    /// `counted` says which runs add to the cost.
     fn simulate(
         &mut self,
         configs: &[Config],
         seeds: &[u64],
+        screen_size: bool,
         what: &str,
-        counted: bool,
+        counted: Counted,
     ) -> Result<Vec<Vec<Raw>>, String> {
+        let quiet = counted == Counted::None;
         let flat: Vec<Run> = configs
             .iter()
-            .flat_map(|c| self.runs_for(c, seeds))
+            .flat_map(|c| self.runs_for(c, seeds, screen_size))
             .collect();
-        if counted {
+        if !quiet {
             (self.progress)(&format!(
                 "{what}: {} configuration(s), {} run(s)",
                 configs.len(),
@@ -123,18 +172,25 @@ impl<'a> Predictor<'a> {
         let progress = self.progress;
         let step = (flat.len() / 10).max(1);
         let outputs = run_all(&flat, self.cache, self.settings.threads, &|k, n| {
-            if counted && (k % step == 0 || k == n) {
+            if !quiet && (k % step == 0 || k == n) {
                 progress(&format!("  {what}: {k}/{n} runs done"));
             }
         });
-        if counted {
-            self.count(&flat);
-        }
+        let counted_runs = flat
+            .iter()
+            .filter(|r| match counted {
+                Counted::None => false,
+                Counted::All => true,
+                Counted::Compressions => matches!(r, Run::Compression(_)),
+            })
+            .collect::<Vec<_>>();
+        let smaller = screen_size && configs.first().is_some_and(|c| self.screens_smaller(c));
+        self.count(&counted_runs, smaller);
         let failed = outputs
             .iter()
             .filter(|o| matches!(o, Ok(Output::Envelope(e)) if e.failure.is_some()))
             .count();
-        if counted && failed > 0 {
+        if !quiet && failed > 0 {
             (self.progress)(&format!(
                 "  {what}: {failed} compression(s) stopped by a run-time guard; their curves end there"
             ));
@@ -167,10 +223,13 @@ impl<'a> Predictor<'a> {
         Ok(all)
     }
 
-    fn count(&mut self, runs: &[Run]) {
+    fn count(&mut self, runs: &[&Run], screen_size: bool) {
         for run in runs {
             match run {
-                Run::Compression(_) => self.cost.compressions += 1,
+                Run::Compression(_) => {
+                    self.cost.compressions += 1;
+                    self.cost.screen_size_compressions += usize::from(screen_size);
+                }
                 Run::Sticking(_) => self.cost.sticking += 1,
             }
             self.cost.cpu_seconds += self.cache.cost(run).unwrap_or(0.0);
@@ -184,7 +243,7 @@ impl<'a> Predictor<'a> {
         what: &str,
     ) -> Result<Vec<Vec<Prediction>>, String> {
         let seeds = self.settings.seeds.clone();
-        let raw = self.simulate(configs, &seeds, what, true)?;
+        let raw = self.simulate(configs, &seeds, false, what, Counted::All)?;
         Ok(raw
             .into_iter()
             .map(|r| r.into_iter().map(full_prediction).collect())
@@ -201,16 +260,17 @@ impl<'a> Predictor<'a> {
         current_predictions: &[Prediction],
         what: &str,
     ) -> Result<Vec<Vec<Prediction>>, String> {
-        if self.screen_seeds().len() == self.settings.seeds.len() {
+        if self.screens_every_seed(current) {
             return self.predict(configs, what);
         }
-        self.screened(configs, current, current_predictions, what, true)
+        self.screened(configs, current, current_predictions, what, Counted::All)
     }
 
     /// The screening prediction of a config that [`Predictor::predict`] has just run on every
     /// seed: read from those runs (the screen seeds are among them), so it costs nothing and
-    /// is not counted. Set beside the full prediction it measures how far the screened
-    /// response is from the mean one ([`super::fidelity`]).
+    /// is not counted — unless the screen runs a smaller sample, whose run is new and counted.
+    /// Set beside the full prediction it measures how far the screened response is from the
+    /// mean one at the target size ([`super::fidelity`]).
     pub fn screened_view(
         &mut self,
         config: &Config,
@@ -222,7 +282,10 @@ impl<'a> Predictor<'a> {
             current,
             current_predictions,
             "screened view",
-            false,
+            match self.screens_smaller(current) {
+                true => Counted::Compressions,
+                false => Counted::None,
+            },
         )?;
         Ok(views.remove(0))
     }
@@ -233,13 +296,28 @@ impl<'a> Predictor<'a> {
         current: &Config,
         current_predictions: &[Prediction],
         what: &str,
-        counted: bool,
+        counted: Counted,
     ) -> Result<Vec<Vec<Prediction>>, String> {
         let seeds = self.screen_seeds();
-        let raw = self.simulate(configs, seeds, what, counted)?;
-        // Cache hits: `current` ran on every seed for its full prediction.
+        let raw = self.simulate(configs, seeds, true, what, counted)?;
+        // At the target size these are cache hits (`current` ran on every seed for its full
+        // prediction); on a smaller screen sample they are run, and counted, once per model.
+        let new_reference =
+            self.screens_smaller(current) && !self.counted_references.contains(current);
+        if new_reference {
+            self.counted_references.push(current.clone());
+        }
         let reference = self
-            .simulate(std::slice::from_ref(current), seeds, what, false)?
+            .simulate(
+                std::slice::from_ref(current),
+                seeds,
+                true,
+                &format!("{what} (the current model at the screen's size)"),
+                match new_reference {
+                    true => Counted::Compressions,
+                    false => Counted::None,
+                },
+            )?
             .remove(0);
         Ok(raw
             .into_iter()

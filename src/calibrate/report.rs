@@ -400,7 +400,17 @@ fn search_text(cal: &Calibration) -> String {
         0 => n,
         k => k.min(n),
     };
-    let screen = if k == n {
+    let screen = if cal.settings.screen_monomers != 0
+        && cal.settings.screen_monomers != cal.base.sample.monomers
+    {
+        format!(
+            "a first screen on {} monomers (the fit's samples have {}) that only drops the \
+             effects that cannot come near the best there; the others screened again and \
+             fitted at full size on the first {k} of the {n} seeds, as differences from the \
+             current model on the same samples; baseline and every kept correction on all {n}",
+            cal.settings.screen_monomers, cal.base.sample.monomers
+        )
+    } else if k == n {
         format!("screen and 1-D fits on all {n} seed(s)")
     } else {
         format!(
@@ -410,14 +420,15 @@ fn search_text(cal: &Calibration) -> String {
         )
     };
     format!(
-        "{screen}; effects that cannot come near the best {}; {} compressions and {} sticking \
-         runs requested",
+        "{screen}; effects that cannot come near the best {}; {} compressions ({} of them at \
+         the screen's size) and {} sticking runs requested",
         if cal.settings.prune {
             "dropped after the screen"
         } else {
             "kept"
         },
         cal.cost.compressions,
+        cal.cost.screen_size_compressions,
         cal.cost.sticking,
     )
 }

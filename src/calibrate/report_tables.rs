@@ -114,6 +114,15 @@ pub(super) fn detection_table(s: &mut String, round: &Round, already_shown: bool
     }
     s.push_str("Detection limits of these data (smallest factor each way shown at 95%):\n\n");
     detection_rows(s, &round.detection);
+    if let Some((monomers, dropped)) = &round.size_screened {
+        let names: Vec<&str> = dropped.iter().map(|e| e.name()).collect();
+        let _ = writeln!(
+            s,
+            "\nThe limits of {} come from the {monomers}-monomer screen that dropped them, \
+             not from the fit's sample size; every other limit is at the fit's size.\n",
+            names.join(", ")
+        );
+    }
 }
 
 pub(super) fn single_observable_text(

@@ -57,6 +57,42 @@ pub fn screen(
     Ok(grids)
 }
 
+/// Multi-fidelity in size: every effect screened on the smaller sample (`screen_monomers`),
+/// those that cannot come near the best there dropped ([`pruned_by_smaller_screen`]), the
+/// rest screened again
+/// at the target size, from which the round goes on as without the smaller screen. The
+/// smaller sample only ranks: the fits, the polish and the kept effects' detection limits are
+/// all at the target size. Returns the target-size grids of the effects kept and the
+/// smaller-sample grids of those dropped.
+pub fn screen_by_size(
+    predictor: &mut Predictor,
+    current: &Current,
+    effects: &[Effect],
+    round: usize,
+) -> Result<(Vec<Grid>, Vec<Grid>), String> {
+    let measured = predictor.measured;
+    predictor.screen_monomers = predictor.settings.screen_monomers;
+    let small = screen(predictor, current, effects, round)?;
+    predictor.screen_monomers = 0;
+    let what = format!(
+        "round {round}: ranking on {} monomers",
+        predictor.settings.screen_monomers
+    );
+    report_ranking(predictor.progress, &what, measured, &small);
+    let dropped = pruned_by_smaller_screen(measured, &small, current.predictions);
+    let kept: Vec<Effect> = effects
+        .iter()
+        .copied()
+        .filter(|e| !dropped.contains(e))
+        .collect();
+    let grids = screen(predictor, current, &kept, round)?;
+    let small_dropped = small
+        .into_iter()
+        .filter(|g| dropped.contains(&g.effect))
+        .collect();
+    Ok((grids, small_dropped))
+}
+
 /// The lowest χ² any scaling (either sign, up to ×64) of one of the grid's simulated changes
 /// from the current model reaches: a bound on what the effect could do if its response kept
 /// a shape the screen has seen.
@@ -81,15 +117,42 @@ pub fn optimistic_chi2(m: &MeasuredSet, grid: &Grid, current: &[Prediction]) -> 
 
 /// The effects that cannot come within [`PRUNE_DELTA_CHI2`] of the best screened minimum.
 pub fn pruned(m: &MeasuredSet, grids: &[Grid], current: &[Prediction]) -> Vec<Effect> {
+    pruned_beyond(m, grids, current, |_| PRUNE_DELTA_CHI2)
+}
+
+/// The effects whose optimistic χ² lies more than `margin(leader's χ²)` above the leader's.
+fn pruned_beyond(
+    m: &MeasuredSet,
+    grids: &[Grid],
+    current: &[Prediction],
+    margin: impl Fn(f64) -> f64,
+) -> Vec<Effect> {
     let leader = grids
         .iter()
         .map(|g| g.minimum(m).1)
         .fold(f64::INFINITY, f64::min);
     grids
         .iter()
-        .filter(|g| optimistic_chi2(m, g, current) > leader + PRUNE_DELTA_CHI2)
+        .filter(|g| optimistic_chi2(m, g, current) > leader + margin(leader))
         .map(|g| g.effect)
         .collect()
+}
+
+/// What a screen on a smaller sample drops: the effects that, even scaled optimistically,
+/// explain less than half of what the best one explains there (and lie beyond
+/// [`PRUNE_DELTA_CHI2`] of it). A smaller sample's response can differ from the target's in
+/// shape, not only in size (which the scalings cover): at 60 of 120 monomers the side walls
+/// of a second round (χ² 15.3 against the leader's 11.7 from 23.3) would have been dropped by
+/// the Δχ² = 2 rule although they are what the data hide.
+pub fn pruned_by_smaller_screen(
+    m: &MeasuredSet,
+    grids: &[Grid],
+    current: &[Prediction],
+) -> Vec<Effect> {
+    let base = gap(m, current).chi2;
+    pruned_beyond(m, grids, current, |leader| {
+        PRUNE_DELTA_CHI2.max(0.5 * (base - leader))
+    })
 }
 
 /// Widens the search of every effect whose fit lands on an end of its searched range with χ²
@@ -178,7 +241,7 @@ pub fn polish(
     let full = predictor
         .predict(std::slice::from_ref(&config), &what)?
         .remove(0);
-    if predictor.screens_every_seed() {
+    if predictor.screens_every_seed(current.config) {
         grid.insert(u, full.clone());
     } else {
         let screened = predictor.screened_view(&config, current.config, current.predictions)?;
@@ -199,7 +262,7 @@ fn add_points(
         .iter()
         .map(|&(e, f)| e.apply(current.config, f))
         .collect();
-    let screened_all = predictor.screens_every_seed();
+    let screened_all = predictor.screens_every_seed(current.config);
     let predictions = predictor.predict_screen(
         &configs,
         current.config,
@@ -274,6 +337,47 @@ mod tests {
         // No change: the current model's own χ².
         let g = grid(Effect::RollingStiffness, curve(0.05, 0.0));
         assert!((optimistic_chi2(&m, &g, &current) - 25.0).abs() < 1e-9);
+    }
+
+    /// The data matched at the first `n` targets (the current model 0.05 off everywhere).
+    fn matched_at_first(n: usize) -> Vec<Prediction> {
+        let mut p = curve(0.05, 0.0);
+        if let Prediction::Compression { phi, .. } = &mut p[0] {
+            phi.iter_mut().take(n).for_each(|x| *x -= 0.05);
+        }
+        p
+    }
+
+    #[test]
+    fn a_smaller_screen_drops_only_effects_explaining_under_half_of_what_the_best_does() {
+        let m = measured();
+        let current = curve(0.05, 0.0);
+        // Baseline χ² 25, the leader reaches 0: the margin is ½ · 25 = 12.5, not 2.
+        // Matched at 7 of 12 targets: χ² 25 · 5/12 = 10.4, kept (Δχ² = 2 would drop it);
+        // at 5 of 12: 25 · 7/12 = 14.6, dropped.
+        let grids = [
+            grid(Effect::NormalDamping, curve(0.0, 0.0)),
+            grid(Effect::SurfaceEnergy, matched_at_first(7)),
+            grid(Effect::RollingStiffness, matched_at_first(5)),
+        ];
+        assert_eq!(
+            pruned(&m, &grids, &current),
+            vec![Effect::SurfaceEnergy, Effect::RollingStiffness]
+        );
+        assert_eq!(
+            pruned_by_smaller_screen(&m, &grids, &current),
+            vec![Effect::RollingStiffness]
+        );
+        // Where the leader explains little the margin is Δχ² = 2 still: the leader at
+        // 25 · 11/12 = 22.92 (half of what it explains is 1.04), an effect changing nothing
+        // at 25 is 2.08 above it and dropped by both rules.
+        let near = [
+            grid(Effect::NormalDamping, matched_at_first(1)),
+            grid(Effect::SurfaceEnergy, curve(0.05, 0.0)),
+        ];
+        let dropped = vec![Effect::SurfaceEnergy];
+        assert_eq!(pruned(&m, &near, &current), dropped);
+        assert_eq!(pruned_by_smaller_screen(&m, &near, &current), dropped);
     }
 
     #[test]
@@ -357,4 +461,15 @@ mod tests {
             d.lower
         );
     }
+}
+
+/// The screened effects by their best screened χ², as a progress line (what the screen ranks).
+pub fn report_ranking(progress: &dyn Fn(&str), what: &str, m: &MeasuredSet, grids: &[Grid]) {
+    let mut ranked: Vec<(f64, Effect)> = grids.iter().map(|g| (g.minimum(m).1, g.effect)).collect();
+    ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let text: Vec<String> = ranked
+        .iter()
+        .map(|(chi2, e)| format!("{} {chi2:.2}", e.name()))
+        .collect();
+    progress(&format!("{what}: {}", text.join(", ")));
 }

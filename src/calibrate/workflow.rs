@@ -4,7 +4,7 @@
 //! apply it, re-simulate, and repeat while a gap beyond noise remains.
 
 use super::attribution::{
-    attribute, detection_limit, Decision, DetectionLimit, EffectFit, Grid, SingleObservable,
+    detection_limit, Decision, DetectionLimit, EffectFit, SingleObservable,
 };
 pub use super::detection::limit_text;
 use super::effects::Effect;
@@ -12,7 +12,8 @@ use super::gap::{gap, Gap, Prediction};
 use super::measured::{Geometry, MeasuredSet};
 use super::outside::{outside_library, single_observable, OutsideLibrary};
 use super::predictor::{Cost, Predictor};
-use super::search::{polish, pruned, refine, screen, Current, PRUNE_DELTA_CHI2};
+use super::leaders::polish_leaders;
+use super::search::{pruned, refine, report_ranking, screen, screen_by_size, Current};
 use super::simulate::RunCache;
 use crate::config::Config;
 
@@ -25,6 +26,10 @@ pub struct Settings {
     /// Seeds of the screen, the widening and the refinement: the first this many of `seeds`,
     /// on common random numbers (see [`super::predictor`]); 0 screens on every seed.
     pub screen_seeds: usize,
+    /// Sample size of the screen, the widening and the refinement (multi-fidelity in size;
+    /// 0: the config's own). The baseline, every full prediction, the gaps and the detection
+    /// limits of a round whose gap is within noise stay at the config's size.
+    pub screen_monomers: usize,
     /// Drop the effects that cannot come within Δχ² = 2 of the best one after the screen
     /// ([`super::search::pruned`]) instead of widening and refining them too.
     pub prune: bool,
@@ -51,6 +56,7 @@ impl Default for Settings {
         Settings {
             seeds: vec![1, 2, 3],
             screen_seeds: 1,
+            screen_monomers: 0,
             prune: true,
             both_ends: false,
             threads: std::thread::available_parallelism().map_or(2, |n| n.get()),
@@ -70,6 +76,9 @@ pub struct Round {
     pub gap_before: Gap,
     /// Per effect, the smallest factors these data would have shown (from the screen).
     pub detection: Vec<DetectionLimit>,
+    /// With a screen on a smaller sample: its size and the effects it dropped (their
+    /// detection limits come from it; every other effect's from the target size).
+    pub size_screened: Option<(usize, Vec<Effect>)>,
     /// Set when the gap rests on one curve alone.
     pub single: Option<SingleObservable>,
     /// Set when the cause may lie outside the library (ties, bounds, a gap left).
@@ -132,7 +141,7 @@ pub fn calibrate(
     cache: &RunCache,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<Calibration, String> {
-    check_seeds(settings)?;
+    check_settings(settings, base)?;
     let mut predictor = Predictor::new(measured, cache, settings, progress);
     let has_omni = measured
         .compression
@@ -162,16 +171,34 @@ pub fn calibrate(
                     && !applied.iter().any(|(a, _)| a.family() == e.family())
             })
             .collect();
-        // The screen runs even when the gap is within noise: it gives the detection limits.
+        // The screen runs even when the gap is within noise: it gives the detection limits,
+        // which are then all the round gives, so it runs at the target size.
         let now = Current {
             config: &current,
             predictions: &current_predictions,
         };
-        let mut grids = screen(&mut predictor, &now, &effects, round)?;
+        predictor.screen_monomers = 0;
+        // A sticking velocity does not depend on the sample: nothing to screen smaller.
+        let smaller = settings.screen_monomers != 0 && !measured.compression.is_empty();
+        let (mut grids, small) = match !before.within_noise() && smaller {
+            true => screen_by_size(&mut predictor, &now, &effects, round)?,
+            false => (screen(&mut predictor, &now, &effects, round)?, Vec::new()),
+        };
+        report_ranking(progress, &format!("round {round}: screen ranking"), measured, &grids);
         let detection: Vec<DetectionLimit> = grids
             .iter()
+            .chain(&small)
             .filter_map(|g| detection_limit(measured, g))
             .collect();
+        let size_screened = (!small.is_empty()).then(|| {
+            let dropped: Vec<Effect> = small.iter().map(|g| g.effect).collect();
+            progress(&format!(
+                "round {round}: dropped by the {}-monomer screen: {}",
+                settings.screen_monomers,
+                names(&dropped)
+            ));
+            (settings.screen_monomers, dropped)
+        });
         if before.within_noise() {
             progress(&format!(
                 "round {round}: the gap is within sample-to-sample and measurement noise"
@@ -182,6 +209,7 @@ pub fn calibrate(
             rounds.push(Round {
                 gap_before: before,
                 detection,
+                size_screened: None,
                 single: None,
                 outside: None,
                 pruned: Vec::new(),
@@ -222,6 +250,7 @@ pub fn calibrate(
             rounds.push(Round {
                 gap_before: before,
                 detection,
+                size_screened: size_screened.clone(),
                 single,
                 outside,
                 pruned: dropped,
@@ -248,6 +277,7 @@ pub fn calibrate(
         rounds.push(Round {
             gap_before: before,
             detection,
+            size_screened,
             single,
             outside,
             pruned: dropped,
@@ -306,6 +336,8 @@ pub fn plan(
 ) -> Result<Plan, String> {
     check_seeds(settings)?;
     let mut predictor = Predictor::new(measured, cache, settings, progress);
+    // Detection limits are taken at the target size.
+    predictor.screen_monomers = 0;
     let has_omni = measured
         .compression
         .iter()
@@ -341,100 +373,19 @@ pub fn plan(
     })
 }
 
-/// An effect with the factor it was simulated at on every seed, and those predictions.
-type Polished = (Effect, f64, Vec<Prediction>);
+fn names(effects: &[Effect]) -> String {
+    effects.iter().map(|e| e.name()).collect::<Vec<_>>().join(", ")
+}
 
-/// Fits and decides, with the leading effects' factors re-fitted on every seed: each effect
-/// within Δχ² = 2 of the best fit is run once on every seed at its fit ([`polish`], which
-/// rescales its screened points by the gain that run shows) and the fits redone, until the
-/// leaders have all been run (at most `candidates` + 1 effects); the chosen effect is then
-/// re-run at its fit while the fit moves by more than the refinement tolerance. With every
-/// seed screened only the chosen effect is re-run, at its fitted factor.
-fn polish_leaders(
-    predictor: &mut Predictor,
-    now: &Current,
-    grids: &mut [Grid],
-    before: &Gap,
-    round: usize,
-) -> Result<(Vec<EffectFit>, Decision, Vec<Polished>), String> {
-    let settings = predictor.settings;
-    let measured = predictor.measured;
-    let screened_all = predictor.screens_every_seed();
-    let limit = if screened_all {
-        1
-    } else {
-        settings.candidates.max(1) + 1
-    };
-    let (mut fits, mut decision) = attribute(measured, before, grids);
-    let mut polished: Vec<Polished> = Vec::new();
-    // The leaders are polished also when the screened fits name nothing: a screened response
-    // weaker than the mean one can hide an effect that lowers χ² significantly.
-    while polished.len() < limit {
-        let best = fits.iter().map(|f| f.chi2).fold(f64::INFINITY, f64::min);
-        let leaders: Vec<(Effect, f64)> = if screened_all {
-            let Some(e) = decision.chosen() else { break };
-            let f = fits.iter().find(|f| f.effect == e).expect("fitted");
-            vec![(e, f.factor)]
-        } else {
-            fits.iter()
-                .filter(|f| f.chi2 <= best + PRUNE_DELTA_CHI2)
-                .filter(|f| !polished.iter().any(|p| p.0 == f.effect))
-                .map(|f| (f.effect, f.factor))
-                .collect()
-        };
-        if leaders.is_empty() {
-            break;
-        }
-        for (effect, factor) in leaders.into_iter().take(limit - polished.len()) {
-            let grid = grids.iter_mut().find(|g| g.effect == effect).expect("grid");
-            let (run_factor, predictions) = polish(predictor, now, grid, factor, round)?;
-            polished.push((effect, run_factor, predictions));
-        }
-        (fits, decision) = attribute(measured, before, grids);
+fn check_settings(settings: &Settings, base: &Config) -> Result<(), String> {
+    let (m, n) = (settings.screen_monomers, base.sample.monomers);
+    if m > n {
+        return Err(format!(
+            "screen monomers: {m} is more than the config's [sample] monomers ({n}); allowed 0 \
+             (the config's size) to {n}"
+        ));
     }
-    // The chosen effect (the re-fits can reorder a tie) is run at its fit until the fit stops
-    // moving; one run per pass, at most `refinements` passes.
-    let mut passes = 0;
-    while let Some(effect) = decision.chosen() {
-        let fitted = fits
-            .iter()
-            .find(|f| f.effect == effect)
-            .expect("fitted")
-            .factor;
-        let at = polished.iter().position(|p| p.0 == effect);
-        let moved = at.is_none_or(|k| {
-            !screened_all && (fitted.ln() - polished[k].1.ln()).abs() > settings.refine_tolerance
-        });
-        if !moved || passes >= settings.refinements.max(1) {
-            break;
-        }
-        let grid = grids.iter_mut().find(|g| g.effect == effect).expect("grid");
-        let (run_factor, predictions) = polish(predictor, now, grid, fitted, round)?;
-        match at {
-            Some(k) => polished[k] = (effect, run_factor, predictions),
-            None => polished.push((effect, run_factor, predictions)),
-        }
-        passes += 1;
-        (fits, decision) = attribute(measured, before, grids);
-    }
-    // The chosen effect is applied at its fitted factor, simulated on every seed (4% off the
-    // fit moved a damping correction's χ² from within noise to beyond it).
-    if let Some(effect) = decision.chosen() {
-        let fitted = fits
-            .iter()
-            .find(|f| f.effect == effect)
-            .expect("fitted")
-            .factor;
-        if let Some(p) = polished.iter_mut().find(|p| p.0 == effect) {
-            if fitted != p.1 {
-                let config = effect.apply(now.config, fitted);
-                let what = format!("round {round}: re-run with {} at its fit", effect.name());
-                p.2 = predictor.predict(&[config], &what)?.remove(0);
-                p.1 = fitted;
-            }
-        }
-    }
-    Ok((fits, decision, polished))
+    check_seeds(settings)
 }
 
 fn check_seeds(settings: &Settings) -> Result<(), String> {

@@ -100,6 +100,11 @@ pub(super) enum Command {
         /// current model on the same samples (common random numbers); 0: every seed.
         #[arg(long, default_value_t = 1)]
         screen_seeds: usize,
+        /// Sample size of the screen and the 1-D fits (multi-fidelity in size), smaller than
+        /// the config's; the baseline, the polished fits, the gaps and the detection limits of
+        /// a gap within noise stay at the config's size. 0: the config's size.
+        #[arg(long, default_value_t = 0)]
+        screen_monomers: usize,
         /// Widen and refine every effect, also those that cannot come within Δχ² = 2 of the
         /// best after the screen.
         #[arg(long)]

@@ -63,6 +63,7 @@ pub fn main() -> ExitCode {
             out,
             seeds,
             screen_seeds,
+            screen_monomers,
             no_prune,
             screen_both_ends,
             rounds,
@@ -84,6 +85,7 @@ pub fn main() -> ExitCode {
             let mut settings = Settings {
                 seeds,
                 screen_seeds,
+                screen_monomers,
                 prune: !no_prune,
                 both_ends: screen_both_ends,
                 max_rounds: rounds,

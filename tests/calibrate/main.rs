@@ -54,6 +54,13 @@ fn settings() -> Settings {
 /// `DUSTDEM_FULL_SEARCH=1` the search before those savings (both range ends, every seed, every
 /// effect widened), to measure what they save (the table in docs/guide/src/calibration.md).
 fn search(s: Settings) -> Settings {
+    let s = match std::env::var("DUSTDEM_SCREEN_MONOMERS") {
+        Ok(m) => Settings {
+            screen_monomers: m.parse().expect("DUSTDEM_SCREEN_MONOMERS: a sample size"),
+            ..s
+        },
+        Err(_) => s,
+    };
     if std::env::var_os("DUSTDEM_FULL_SEARCH").is_some() {
         Settings {
             screen_seeds: 0,
@@ -111,12 +118,14 @@ fn run_calibration(name: &str, measured: &MeasuredSet, settings: &Settings) -> C
     let before = cal.baseline_gap();
     let after = cal.final_gap();
     eprintln!(
-        "{name}: {:.0} s, {} runs requested ({} compressions, {} sticking, {:.0} CPU-s); \
+        "{name}: {:.0} s, {} runs requested ({} compressions, {} of them at the screen's size, \
+         {} sticking, {:.0} CPU-s); \
          chi2 {:.2} -> {:.2} (threshold {:.2}), normalised shrink {:.0}%; RMS gap shrink of \
          the curves beyond noise: {}",
         start.elapsed().as_secs_f64(),
         cal.runs,
         cal.cost.compressions,
+        cal.cost.screen_size_compressions,
         cal.cost.sticking,
         cal.cost.cpu_seconds,
         before.chi2,

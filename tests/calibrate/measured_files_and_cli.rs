@@ -55,6 +55,27 @@ fn bad_measured_files_exit_2_naming_file_field_and_value() {
         assert!(err.contains(field) && err.contains(value), "{name}: {err}");
         assert!(!err.contains("panicked"), "{name}: {err}");
     }
+    // A screen larger than the fit's samples is refused before anything runs.
+    let path = dir.join("good.toml");
+    std::fs::write(&path, good).unwrap();
+    let out = dustdem(&[
+        "calibrate",
+        "--measured",
+        path.to_str().unwrap(),
+        "--config",
+        config.to_str().unwrap(),
+        "--out",
+        dir.join("out").to_str().unwrap(),
+        "--screen-monomers",
+        "500",
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{err}");
+    assert!(
+        err.contains("screen monomers: 500") && err.contains("(120)") && err.contains("0 (the"),
+        "{err}"
+    );
+    assert!(!err.contains("panicked") && !err.contains("baseline"), "{err}");
 }
 
 #[test]

@@ -1,0 +1,107 @@
+//! The leaders of a round: the effects within Δχ² = 2 of the best fit are run once on every
+//! seed at their fitted factors (which rescales their screened points by the gain those runs
+//! show, [`super::fidelity`]), the fits redone, and the chosen effect re-run while its fit
+//! moves.
+
+use super::attribution::{attribute, Decision, EffectFit, Grid};
+use super::effects::Effect;
+use super::gap::{Gap, Prediction};
+use super::predictor::Predictor;
+use super::search::{polish, Current, PRUNE_DELTA_CHI2};
+
+/// An effect with the factor it was simulated at on every seed, and those predictions.
+pub type Polished = (Effect, f64, Vec<Prediction>);
+
+/// Fits and decides, with the leading effects' factors re-fitted on every seed: each effect
+/// within Δχ² = 2 of the best fit is run once on every seed at its fit ([`polish`], which
+/// rescales its screened points by the gain that run shows) and the fits redone, until the
+/// leaders have all been run (at most `candidates` + 1 effects); the chosen effect is then
+/// re-run at its fit while the fit moves by more than the refinement tolerance. With every
+/// seed screened only the chosen effect is re-run, at its fitted factor.
+pub fn polish_leaders(
+    predictor: &mut Predictor,
+    now: &Current,
+    grids: &mut [Grid],
+    before: &Gap,
+    round: usize,
+) -> Result<(Vec<EffectFit>, Decision, Vec<Polished>), String> {
+    let settings = predictor.settings;
+    let measured = predictor.measured;
+    let screened_all = predictor.screens_every_seed(now.config);
+    let limit = if screened_all {
+        1
+    } else {
+        settings.candidates.max(1) + 1
+    };
+    let (mut fits, mut decision) = attribute(measured, before, grids);
+    let mut polished: Vec<Polished> = Vec::new();
+    // The leaders are polished also when the screened fits name nothing: a screened response
+    // weaker than the mean one can hide an effect that lowers χ² significantly.
+    while polished.len() < limit {
+        let best = fits.iter().map(|f| f.chi2).fold(f64::INFINITY, f64::min);
+        let leaders: Vec<(Effect, f64)> = if screened_all {
+            let Some(e) = decision.chosen() else { break };
+            let f = fits.iter().find(|f| f.effect == e).expect("fitted");
+            vec![(e, f.factor)]
+        } else {
+            fits.iter()
+                .filter(|f| f.chi2 <= best + PRUNE_DELTA_CHI2)
+                .filter(|f| !polished.iter().any(|p| p.0 == f.effect))
+                .map(|f| (f.effect, f.factor))
+                .collect()
+        };
+        if leaders.is_empty() {
+            break;
+        }
+        for (effect, factor) in leaders.into_iter().take(limit - polished.len()) {
+            let grid = grids.iter_mut().find(|g| g.effect == effect).expect("grid");
+            let (run_factor, predictions) = polish(predictor, now, grid, factor, round)?;
+            polished.push((effect, run_factor, predictions));
+        }
+        (fits, decision) = attribute(measured, before, grids);
+    }
+    // The chosen effect (the re-fits can reorder a tie) is run at its fit until the fit stops
+    // moving; one run per pass, at most `refinements` passes.
+    let mut passes = 0;
+    while let Some(effect) = decision.chosen() {
+        let fitted = fits
+            .iter()
+            .find(|f| f.effect == effect)
+            .expect("fitted")
+            .factor;
+        let at = polished.iter().position(|p| p.0 == effect);
+        let moved = at.is_none_or(|k| {
+            !screened_all && (fitted.ln() - polished[k].1.ln()).abs() > settings.refine_tolerance
+        });
+        if !moved || passes >= settings.refinements.max(1) {
+            break;
+        }
+        let grid = grids.iter_mut().find(|g| g.effect == effect).expect("grid");
+        let (run_factor, predictions) = polish(predictor, now, grid, fitted, round)?;
+        match at {
+            Some(k) => polished[k] = (effect, run_factor, predictions),
+            None => polished.push((effect, run_factor, predictions)),
+        }
+        passes += 1;
+        (fits, decision) = attribute(measured, before, grids);
+    }
+    // The chosen effect is applied at its fitted factor, simulated on every seed (4% off the
+    // fit moved a damping correction's χ² from within noise to beyond it).
+    if let Some(effect) = decision.chosen() {
+        let fitted = fits
+            .iter()
+            .find(|f| f.effect == effect)
+            .expect("fitted")
+            .factor;
+        if let Some(p) = polished.iter_mut().find(|p| p.0 == effect) {
+            if fitted != p.1 {
+                let config = effect.apply(now.config, fitted);
+                let what = format!("round {round}: re-run with {} at its fit", effect.name());
+                p.2 = predictor.predict(&[config], &what)?.remove(0);
+                p.1 = fitted;
+            }
+        }
+    }
+    Ok((fits, decision, polished))
+}
+
