@@ -104,4 +104,3 @@ pub fn polish_leaders(
     }
     Ok((fits, decision, polished))
 }
-

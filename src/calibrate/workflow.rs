@@ -3,16 +3,14 @@
 //! effect that explains the gap (or say that none does, or that several do equally well),
 //! apply it, re-simulate, and repeat while a gap beyond noise remains.
 
-use super::attribution::{
-    detection_limit, Decision, DetectionLimit, EffectFit, SingleObservable,
-};
+use super::attribution::{detection_limit, Decision, DetectionLimit, EffectFit, SingleObservable};
 pub use super::detection::limit_text;
 use super::effects::Effect;
 use super::gap::{gap, Gap, Prediction};
+use super::leaders::polish_leaders;
 use super::measured::{Geometry, MeasuredSet};
 use super::outside::{outside_library, single_observable, OutsideLibrary};
 use super::predictor::{Cost, Predictor};
-use super::leaders::polish_leaders;
 use super::search::{pruned, refine, report_ranking, screen, screen_by_size, Current};
 use super::simulate::RunCache;
 use crate::config::Config;
@@ -184,7 +182,12 @@ pub fn calibrate(
             true => screen_by_size(&mut predictor, &now, &effects, round)?,
             false => (screen(&mut predictor, &now, &effects, round)?, Vec::new()),
         };
-        report_ranking(progress, &format!("round {round}: screen ranking"), measured, &grids);
+        report_ranking(
+            progress,
+            &format!("round {round}: screen ranking"),
+            measured,
+            &grids,
+        );
         let detection: Vec<DetectionLimit> = grids
             .iter()
             .chain(&small)
@@ -374,7 +377,11 @@ pub fn plan(
 }
 
 fn names(effects: &[Effect]) -> String {
-    effects.iter().map(|e| e.name()).collect::<Vec<_>>().join(", ")
+    effects
+        .iter()
+        .map(|e| e.name())
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 fn check_settings(settings: &Settings, base: &Config) -> Result<(), String> {

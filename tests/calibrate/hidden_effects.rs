@@ -301,7 +301,10 @@ fn a_first_screen_on_half_the_sample_changes_no_decision(m: &MeasuredSet, full: 
     assert_eq!(cal.applied, full.applied);
     for (a, b) in cal.rounds.iter().zip(&full.rounds) {
         assert_eq!(a.decision, b.decision);
-        let (kept, _) = a.size_screened.as_ref().expect("a first screen on 60 monomers");
+        let (kept, _) = a
+            .size_screened
+            .as_ref()
+            .expect("a first screen on 60 monomers");
         assert_eq!(*kept, 60);
     }
     let at_target = |c: &Calibration| c.cost.compressions - c.cost.screen_size_compressions;

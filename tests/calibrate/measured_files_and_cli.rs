@@ -75,7 +75,10 @@ fn bad_measured_files_exit_2_naming_file_field_and_value() {
         err.contains("screen monomers: 500") && err.contains("(120)") && err.contains("0 (the"),
         "{err}"
     );
-    assert!(!err.contains("panicked") && !err.contains("baseline"), "{err}");
+    assert!(
+        !err.contains("panicked") && !err.contains("baseline"),
+        "{err}"
+    );
 }
 
 #[test]
