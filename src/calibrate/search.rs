@@ -283,6 +283,17 @@ fn add_points(
     Ok(())
 }
 
+/// The screened effects by their best screened χ², as a progress line (what the screen ranks).
+pub fn report_ranking(progress: &dyn Fn(&str), what: &str, m: &MeasuredSet, grids: &[Grid]) {
+    let mut ranked: Vec<(f64, Effect)> = grids.iter().map(|g| (g.minimum(m).1, g.effect)).collect();
+    ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let text: Vec<String> = ranked
+        .iter()
+        .map(|(chi2, e)| format!("{} {chi2:.2}", e.name()))
+        .collect();
+    progress(&format!("{what}: {}", text.join(", ")));
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -461,15 +472,4 @@ mod tests {
             d.lower
         );
     }
-}
-
-/// The screened effects by their best screened χ², as a progress line (what the screen ranks).
-pub fn report_ranking(progress: &dyn Fn(&str), what: &str, m: &MeasuredSet, grids: &[Grid]) {
-    let mut ranked: Vec<(f64, Effect)> = grids.iter().map(|g| (g.minimum(m).1, g.effect)).collect();
-    ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let text: Vec<String> = ranked
-        .iter()
-        .map(|(chi2, e)| format!("{} {chi2:.2}", e.name()))
-        .collect();
-    progress(&format!("{what}: {}", text.join(", ")));
 }
