@@ -420,15 +420,18 @@ fn search_text(cal: &Calibration) -> String {
         )
     };
     format!(
-        "{screen}; effects that cannot come near the best {}; {} compressions ({} of them at \
-         the screen's size) and {} sticking runs requested",
+        "{screen}; effects that cannot come near the best {}; {} compressions{} and {} \
+         sticking runs requested",
         if cal.settings.prune {
             "dropped after the screen"
         } else {
             "kept"
         },
         cal.cost.compressions,
-        cal.cost.screen_size_compressions,
+        match cal.cost.screen_size_compressions {
+            0 => String::new(),
+            k => format!(" ({k} of them on the smaller screen's samples)"),
+        },
         cal.cost.sticking,
     )
 }
