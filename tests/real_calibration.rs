@@ -20,14 +20,16 @@ const MEASURED: [&str; 3] = [
     "configs/measured/poppe2000_sticking.toml",
 ];
 
-/// Each committed calibration: its directory, config, seeds, rounds, and whether it is a plan.
-const CASES: [(&str, &str, &str, &str, bool); 5] = [
+/// Each committed calibration: its directory, config, seeds, rounds, whether it is a plan, and
+/// the first screen's sample size ("0": none).
+const CASES: [(&str, &str, &str, &str, bool, &str); 6] = [
     (
         "n1000_v0p5",
         "configs/real_data_n1000_v0p5.toml",
         "1,2,3,4,5,6",
         "2",
         false,
+        "0",
     ),
     (
         "n1000_v0p5",
@@ -35,6 +37,7 @@ const CASES: [(&str, &str, &str, &str, bool); 5] = [
         "1,2,3,4,5,6",
         "2",
         true,
+        "0",
     ),
     (
         "n1000_v0p25",
@@ -42,6 +45,7 @@ const CASES: [(&str, &str, &str, &str, bool); 5] = [
         "1,2,3,4,5,6",
         "2",
         false,
+        "0",
     ),
     (
         "n1000_v0p5_paper_fix",
@@ -49,6 +53,7 @@ const CASES: [(&str, &str, &str, &str, bool); 5] = [
         "1,2,3",
         "1",
         false,
+        "0",
     ),
     (
         "n1000_v0p5_viscoelastic",
@@ -56,6 +61,15 @@ const CASES: [(&str, &str, &str, &str, bool); 5] = [
         "1,2,3",
         "1",
         false,
+        "0",
+    ),
+    (
+        "n1000_v0p5_screen500",
+        "configs/real_data_n1000_v0p5.toml",
+        "1,2,3,4,5,6",
+        "2",
+        false,
+        "500",
     ),
 ];
 
@@ -63,7 +77,7 @@ const CASES: [(&str, &str, &str, &str, bool); 5] = [
 fn the_committed_real_data_reports_rebuild_from_their_run_cache() {
     let scratch = Scratch::new("real-calibration");
     let cache = repo("docs/calibration/real/run_cache");
-    for (k, (dir, config, seeds, rounds, plan)) in CASES.into_iter().enumerate() {
+    for (k, (dir, config, seeds, rounds, plan, screen)) in CASES.into_iter().enumerate() {
         let out = scratch.join(format!("{k}_{dir}"));
         let mut cmd = Command::new(env!("CARGO_BIN_EXE_dustdem"));
         cmd.current_dir(repo("")).arg("calibrate");
@@ -71,6 +85,7 @@ fn the_committed_real_data_reports_rebuild_from_their_run_cache() {
             cmd.args(["--measured", m]);
         }
         cmd.args(["--config", config, "--seeds", seeds, "--rounds", rounds])
+            .args(["--screen-monomers", screen])
             .arg("--out")
             .arg(&out)
             .arg("--cache")
