@@ -67,9 +67,8 @@ pub struct Predictor<'a> {
     pub settings: &'a Settings,
     pub progress: &'a (dyn Fn(&str) + Sync),
     pub cost: Cost,
-    /// Sample size of the screening runs; 0: the config's own. A copy of the setting that
-    /// the loop sets to 0 for a round that only needs the detection limits, which are always
-    /// taken at the target size.
+    /// Sample size of the screening runs; 0: the config's own. Set to the setting's value
+    /// only for the first screen on smaller samples ([`super::search::screen_by_size`]).
     pub screen_monomers: usize,
     /// The current models whose screen-size reference runs were counted already (repeated
     /// requests of one reference are cache hits, not new compressions).
@@ -89,7 +88,7 @@ impl<'a> Predictor<'a> {
             settings,
             progress,
             cost: Cost::default(),
-            screen_monomers: settings.screen_monomers,
+            screen_monomers: 0,
             counted_references: Vec::new(),
         }
     }

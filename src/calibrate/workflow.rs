@@ -24,9 +24,9 @@ pub struct Settings {
     /// Seeds of the screen, the widening and the refinement: the first this many of `seeds`,
     /// on common random numbers (see [`super::predictor`]); 0 screens on every seed.
     pub screen_seeds: usize,
-    /// Sample size of the screen, the widening and the refinement (multi-fidelity in size;
-    /// 0: the config's own). The baseline, every full prediction, the gaps and the detection
-    /// limits of a round whose gap is within noise stay at the config's size.
+    /// Sample size of a first screen that only drops effects (multi-fidelity in size; 0:
+    /// none). Everything else, the detection limits of the effects it keeps included, is at
+    /// the config's size ([`super::search::screen_by_size`]).
     pub screen_monomers: usize,
     /// Drop the effects that cannot come within Δχ² = 2 of the best one after the screen
     /// ([`super::search::pruned`]) instead of widening and refining them too.
@@ -175,9 +175,9 @@ pub fn calibrate(
             config: &current,
             predictions: &current_predictions,
         };
-        predictor.screen_monomers = 0;
         // A sticking velocity does not depend on the sample: nothing to screen smaller.
-        let smaller = settings.screen_monomers != 0 && !measured.compression.is_empty();
+        let smaller = (1..current.sample.monomers).contains(&settings.screen_monomers)
+            && !measured.compression.is_empty();
         let (mut grids, small) = match !before.within_noise() && smaller {
             true => screen_by_size(&mut predictor, &now, &effects, round)?,
             false => (screen(&mut predictor, &now, &effects, round)?, Vec::new()),
@@ -339,8 +339,6 @@ pub fn plan(
 ) -> Result<Plan, String> {
     check_seeds(settings)?;
     let mut predictor = Predictor::new(measured, cache, settings, progress);
-    // Detection limits are taken at the target size.
-    predictor.screen_monomers = 0;
     let has_omni = measured
         .compression
         .iter()
