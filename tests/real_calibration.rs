@@ -22,7 +22,7 @@ const MEASURED: [&str; 3] = [
 
 /// Each committed calibration: its directory, config, seeds, rounds, whether it is a plan, and
 /// the first screen's sample size ("0": none).
-const CASES: [(&str, &str, &str, &str, bool, &str); 6] = [
+const CASES: [(&str, &str, &str, &str, bool, &str); 7] = [
     (
         "n1000_v0p5",
         "configs/real_data_n1000_v0p5.toml",
@@ -66,6 +66,14 @@ const CASES: [(&str, &str, &str, &str, bool, &str); 6] = [
     (
         "n1000_v0p5_screen500",
         "configs/real_data_n1000_v0p5.toml",
+        "1,2,3,4,5,6",
+        "2",
+        false,
+        "500",
+    ),
+    (
+        "n1000_v0p25_screen500",
+        "configs/real_data_n1000_v0p25.toml",
         "1,2,3,4,5,6",
         "2",
         false,
