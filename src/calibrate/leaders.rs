@@ -41,8 +41,7 @@ pub fn polish_leaders(
         let best = fits.iter().map(|f| f.chi2).fold(f64::INFINITY, f64::min);
         let leaders: Vec<(Effect, f64)> = if screened_all {
             let Some(e) = decision.chosen() else { break };
-            let f = fits.iter().find(|f| f.effect == e).expect("fitted");
-            vec![(e, f.factor)]
+            vec![(e, fitted_factor(&fits, e))]
         } else {
             fits.iter()
                 .filter(|f| f.chi2 <= best + PRUNE_DELTA_CHI2)
@@ -64,11 +63,7 @@ pub fn polish_leaders(
     // moving; one run per pass, at most `refinements` passes.
     let mut passes = 0;
     while let Some(effect) = decision.chosen() {
-        let fitted = fits
-            .iter()
-            .find(|f| f.effect == effect)
-            .expect("fitted")
-            .factor;
+        let fitted = fitted_factor(&fits, effect);
         let at = polished.iter().position(|p| p.0 == effect);
         let moved = at.is_none_or(|k| {
             !screened_all && (fitted.ln() - polished[k].1.ln()).abs() > settings.refine_tolerance
@@ -88,11 +83,7 @@ pub fn polish_leaders(
     // The chosen effect is applied at its fitted factor, simulated on every seed (4% off the
     // fit moved a damping correction's χ² from within noise to beyond it).
     if let Some(effect) = decision.chosen() {
-        let fitted = fits
-            .iter()
-            .find(|f| f.effect == effect)
-            .expect("fitted")
-            .factor;
+        let fitted = fitted_factor(&fits, effect);
         if let Some(p) = polished.iter_mut().find(|p| p.0 == effect) {
             if fitted != p.1 {
                 let config = effect.apply(now.config, fitted);
@@ -103,4 +94,12 @@ pub fn polish_leaders(
         }
     }
     Ok((fits, decision, polished))
+}
+
+/// The factor `effect`'s fit found (every screened effect is fitted).
+fn fitted_factor(fits: &[EffectFit], effect: Effect) -> f64 {
+    fits.iter()
+        .find(|f| f.effect == effect)
+        .expect("fitted")
+        .factor
 }

@@ -11,6 +11,26 @@ fn dustdem(args: &[&str]) -> std::process::Output {
         .expect("dustdem runs")
 }
 
+/// `dustdem calibrate` on one measured file and a config, with `extra` arguments.
+fn calibrate_cli(
+    measured: &Path,
+    config: &Path,
+    out: &Path,
+    extra: &[&str],
+) -> std::process::Output {
+    let mut args = vec![
+        "calibrate",
+        "--measured",
+        measured.to_str().unwrap(),
+        "--config",
+        config.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    dustdem(&args)
+}
+
 #[test]
 fn bad_measured_files_exit_2_naming_file_field_and_value() {
     let dir = Scratch::new("calibrate-bad");
@@ -40,15 +60,7 @@ fn bad_measured_files_exit_2_naming_file_field_and_value() {
     for (name, text, field, value) in cases {
         let path = dir.join(format!("{name}.toml"));
         std::fs::write(&path, text).unwrap();
-        let out = dustdem(&[
-            "calibrate",
-            "--measured",
-            path.to_str().unwrap(),
-            "--config",
-            config.to_str().unwrap(),
-            "--out",
-            dir.join("out").to_str().unwrap(),
-        ]);
+        let out = calibrate_cli(&path, &config, &dir.join("out"), &[]);
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{name}: {err}");
         assert!(err.contains(path.to_str().unwrap()), "{name}: {err}");
@@ -58,17 +70,12 @@ fn bad_measured_files_exit_2_naming_file_field_and_value() {
     // A screen larger than the fit's samples is refused before anything runs.
     let path = dir.join("good.toml");
     std::fs::write(&path, good).unwrap();
-    let out = dustdem(&[
-        "calibrate",
-        "--measured",
-        path.to_str().unwrap(),
-        "--config",
-        config.to_str().unwrap(),
-        "--out",
-        dir.join("out").to_str().unwrap(),
-        "--screen-monomers",
-        "500",
-    ]);
+    let out = calibrate_cli(
+        &path,
+        &config,
+        &dir.join("out"),
+        &["--screen-monomers", "500"],
+    );
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "{err}");
     assert!(

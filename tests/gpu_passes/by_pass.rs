@@ -9,7 +9,7 @@ use dustdem::backend::cpu::CpuEngine;
 use dustdem::backend::gpu::engine::GpuEngine;
 use dustdem::backend::gpu::interface::Binding;
 use dustdem::backend::gpu::layout;
-use dustdem::backend::script::Kernel;
+use dustdem::backend::script::{Kernel, STEP};
 use glam::DVec3;
 use std::collections::BTreeSet;
 
@@ -46,21 +46,30 @@ fn after(pass: Kernel, before: &[Kernel]) -> Option<(CpuEngine, GpuEngine)> {
     Some((cpu, gpu))
 }
 
-const LISTS: [Kernel; 2] = [Kernel::Neighbours, Kernel::NeighboursList];
-const SCANNED: [Kernel; 3] = [
-    Kernel::Neighbours,
-    Kernel::NeighboursList,
-    Kernel::ContactsScan,
-];
+/// The step's passes from `first` to `last` inclusive, as the step script runs them.
+fn step_passes(first: Kernel, last: Kernel) -> &'static [Kernel] {
+    let at = |k| {
+        STEP.iter()
+            .position(|&p| p == k)
+            .expect("a pass of the step")
+    };
+    &STEP[at(first)..=at(last)]
+}
+
+/// The neighbour passes.
+fn lists() -> &'static [Kernel] {
+    step_passes(Kernel::Neighbours, Kernel::NeighboursList)
+}
+
+/// The passes of a step up to the owners' work list: what the contact passes read.
+fn scanned() -> &'static [Kernel] {
+    step_passes(Kernel::Neighbours, Kernel::ContactsScan)
+}
+
 /// The passes of a step up to the gather: what the wall sums and the start passes read.
-const GATHERED: [Kernel; 6] = [
-    Kernel::Neighbours,
-    Kernel::NeighboursList,
-    Kernel::ContactsScan,
-    Kernel::Contacts,
-    Kernel::Forces,
-    Kernel::WallForces,
-];
+fn gathered() -> &'static [Kernel] {
+    step_passes(Kernel::Neighbours, Kernel::WallForces)
+}
 
 fn same_monomers(cpu: &CpuEngine, gpu: &GpuEngine) {
     let m = gpu.monomers();
@@ -140,7 +149,7 @@ fn integrate_kick() {
 
 #[test]
 fn integrate_kick_with_wall_sums() {
-    let Some((cpu, mut gpu)) = after(Kernel::IntegrateKickWithWallSums, &GATHERED) else {
+    let Some((cpu, mut gpu)) = after(Kernel::IntegrateKickWithWallSums, gathered()) else {
         return;
     };
     same_monomers(&cpu, &gpu);
@@ -259,7 +268,7 @@ fn neighbours_list() {
 
 #[test]
 fn contacts_scan() {
-    let Some((cpu, gpu)) = after(Kernel::ContactsScan, &LISTS) else {
+    let Some((cpu, gpu)) = after(Kernel::ContactsScan, lists()) else {
         return;
     };
     let work = gpu_work(&gpu);
@@ -277,7 +286,7 @@ fn contacts_scan() {
 
 #[test]
 fn contacts() {
-    let Some((cpu, gpu)) = after(Kernel::Contacts, &SCANNED) else {
+    let Some((cpu, gpu)) = after(Kernel::Contacts, scanned()) else {
         return;
     };
     same_table(&cpu, &gpu);
@@ -297,7 +306,7 @@ fn contacts() {
 
 #[test]
 fn contacts_clear_tally() {
-    let before = [&SCANNED[..], &[Kernel::Contacts]].concat();
+    let before = [scanned(), &[Kernel::Contacts]].concat();
     let Some((cpu, gpu)) = after(Kernel::ContactsClearTally, &before) else {
         return;
     };
@@ -317,7 +326,7 @@ fn contacts_pair_tests() {
 
 #[test]
 fn forces_corrections() {
-    let Some((cpu, gpu)) = after(Kernel::ForcesCorrections, &SCANNED) else {
+    let Some((cpu, gpu)) = after(Kernel::ForcesCorrections, scanned()) else {
         return;
     };
     same_table(&cpu, &gpu);
@@ -350,7 +359,7 @@ fn gpu_pair_results(gpu: &GpuEngine, slots: usize) -> Vec<[DVec3; 4]> {
 
 #[test]
 fn forces() {
-    let Some((cpu, gpu)) = after(Kernel::Forces, &SCANNED) else {
+    let Some((cpu, gpu)) = after(Kernel::Forces, scanned()) else {
         return;
     };
     let t = &cpu.contacts;
@@ -374,7 +383,7 @@ fn forces() {
 
 #[test]
 fn wall_contacts() {
-    let Some((cpu, gpu)) = after(Kernel::WallContacts, &SCANNED) else {
+    let Some((cpu, gpu)) = after(Kernel::WallContacts, scanned()) else {
         return;
     };
     same_table(&cpu, &gpu);
@@ -385,7 +394,7 @@ fn wall_contacts() {
 
 #[test]
 fn wall_forces() {
-    let before = [&SCANNED[..], &[Kernel::Contacts, Kernel::Forces]].concat();
+    let before = [scanned(), &[Kernel::Contacts, Kernel::Forces]].concat();
     let Some((cpu, gpu)) = after(Kernel::WallForces, &before) else {
         return;
     };
@@ -408,7 +417,7 @@ fn wall_forces() {
 
 #[test]
 fn reduce_walls_final() {
-    let Some((cpu, mut gpu)) = after(Kernel::ReduceWallsFinal, &GATHERED) else {
+    let Some((cpu, mut gpu)) = after(Kernel::ReduceWallsFinal, gathered()) else {
         return;
     };
     let d = gpu.refresh_diagnostics().unwrap();
@@ -418,7 +427,7 @@ fn reduce_walls_final() {
 
 #[test]
 fn integrate_start() {
-    let Some((cpu, gpu)) = after(Kernel::IntegrateStart, &GATHERED) else {
+    let Some((cpu, gpu)) = after(Kernel::IntegrateStart, gathered()) else {
         return;
     };
     same_monomers(&cpu, &gpu);
@@ -426,7 +435,7 @@ fn integrate_start() {
 
 #[test]
 fn integrate_clear_work() {
-    let Some((cpu, gpu)) = after(Kernel::IntegrateClearWork, &GATHERED) else {
+    let Some((cpu, gpu)) = after(Kernel::IntegrateClearWork, gathered()) else {
         return;
     };
     let (g, work) = gpu_tally(&gpu);
