@@ -243,6 +243,8 @@ fn lammps_runs_the_deck_where_it_is_installed() {
     }
     let dir = Scratch::new("bench-lammps");
     let out = dir.join("out");
+    // `--out` relative to the working directory, as users type it: LAMMPS runs in the deck's
+    // folder, so every path handed to it must be right from there.
     let result = dustdem()
         .args([
             "bench",
@@ -253,8 +255,8 @@ fn lammps_runs_the_deck_where_it_is_installed() {
             "--backends",
             "cpu",
         ])
-        .args(["--threads", "1", "--rounds", "1", "--lammps", "--out"])
-        .arg(&out)
+        .args(["--threads", "1", "--rounds", "1", "--lammps", "--out", "out"])
+        .current_dir(dir.path())
         .output()
         .unwrap();
     let stderr = String::from_utf8_lossy(&result.stderr);

@@ -81,7 +81,8 @@ impl Lammps {
         steps: u64,
         tag: &str,
     ) -> Result<LammpsRun, String> {
-        let log = dir.join(format!("log.{tag}.lammps"));
+        let log_name = format!("log.{tag}.lammps");
+        let log = dir.join(&log_name);
         let mut command = match (&self.mpirun, ranks) {
             (Some(mpirun), _) => {
                 let mut c = Command::new(mpirun);
@@ -96,8 +97,10 @@ impl Lammps {
             }
         };
         command
+            // LAMMPS runs in `dir`, so the log is named relative to it: `log` itself is
+            // relative to our working directory when `--out` is.
             .args(["-in", "in.compress", "-screen", "none", "-nocite", "-log"])
-            .arg(&log)
+            .arg(&log_name)
             .args(["-var", "warm", &warm.to_string()])
             .args(["-var", "steps", &steps.to_string()])
             .current_dir(dir)
