@@ -255,7 +255,15 @@ fn lammps_runs_the_deck_where_it_is_installed() {
             "--backends",
             "cpu",
         ])
-        .args(["--threads", "1", "--rounds", "1", "--lammps", "--out", "out"])
+        .args([
+            "--threads",
+            "1",
+            "--rounds",
+            "1",
+            "--lammps",
+            "--out",
+            "out",
+        ])
         .current_dir(dir.path())
         .output()
         .unwrap();

@@ -464,7 +464,8 @@ fn add_passes(sum: &mut Vec<f64>, seconds: &[f64], steps: u64) {
     }
 }
 
-/// "AMD EPYC …, 2 logical CPUs" from /proc/cpuinfo where there is one.
+/// "AMD EPYC …, 2 logical CPUs" from /proc/cpuinfo where there is one, and which instructions
+/// evaluate the CPU engine's contact law (`forces_lanes::ContactLanes`).
 pub fn host() -> String {
     let model = std::fs::read_to_string("/proc/cpuinfo")
         .ok()
@@ -475,5 +476,9 @@ pub fn host() -> String {
                 .map(|m| m.trim().to_string())
         })
         .unwrap_or_else(|| "unknown CPU".into());
-    format!("{model}, {} logical CPUs", Threads::All.resolve())
+    let lanes = crate::backend::cpu::forces_lanes::ContactLanes::chosen().describe();
+    format!(
+        "{model}, {} logical CPUs; CPU engine's contact law: {lanes}",
+        Threads::All.resolve()
+    )
 }

@@ -22,6 +22,11 @@ use std::process::ExitCode;
 /// ([`crate::RESUMABLE_EXIT`] where a signal stopped it at a checkpoint).
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
+    // A bad lane choice is refused before anything runs (the engine would fall back silently).
+    if let Err(e) = crate::backend::cpu::forces_lanes::ContactLanes::from_env() {
+        eprintln!("error: {e}");
+        return ExitCode::from(2);
+    }
     // Only these look for a GPU (`--backend cpu` never does). Before any thread starts.
     let probes = match &cli.command {
         Command::Run { backend, .. } | Command::Resume { backend, .. } => *backend != Backend::Cpu,

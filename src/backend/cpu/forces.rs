@@ -9,12 +9,13 @@
 //! thread adding contact by contact would sum them. So the forces do not depend on the thread
 //! count and equal the device's bits.
 
-use super::prefetch::{prefetch_one, prefetch_partners_ahead, prefetch_row_ahead, worthwhile};
+use super::forces_lanes::{chunk_forces, ContactLanes, OwnerChunk};
+use super::prefetch::worthwhile;
 use super::workspace::{split_len, Workspace, CHUNK};
 use crate::backend::script::{OWNER_CORRECTIONS, OWNER_INDEX};
 use crate::model::{rolling, sliding, twisting, ContactLaw};
 use crate::state::interaction::{
-    pair_geometry, pair_interaction, pair_normal_potential, pair_step_energy_at, PairGeometry,
+    pair_geometry, pair_normal_potential, pair_step_energy_at, PairGeometry,
 };
 use crate::state::{ContactTable, Dissipation, Monomers, PairContact};
 use glam::DVec3;
@@ -139,6 +140,7 @@ pub fn forces(
         rest = tail;
     }
     let prefetching = worthwhile(table);
+    let lanes = ContactLanes::chosen();
     let counts = &table.pair_count;
     table
         .pair
@@ -148,30 +150,13 @@ pub fn forces(
         .enumerate()
         .for_each(|(chunk, (rows, results))| {
             let first = chunk * CHUNK;
-            let counts = &counts[first..(first + CHUNK).min(n)];
-            let mut out = results.iter_mut();
-            for (k, &count) in counts.iter().enumerate() {
-                let i = first + k;
-                if prefetching {
-                    prefetch_row_ahead(rows, slots, counts, k);
-                    prefetch_partners_ahead(rows, slots, counts, k, |j| {
-                        prefetch_one(&monomers.position[j]);
-                        prefetch_one(&monomers.velocity[j]);
-                    });
-                }
-                for c in &rows[k * slots..k * slots + count as usize] {
-                    let j = c.partner as usize;
-                    let (x1, x2) = (monomers.position[i], monomers.position[j]);
-                    let (v1, v2) = (monomers.velocity[i], monomers.velocity[j]);
-                    let (force, damping, torque_owner, torque_partner) =
-                        pair_interaction(law, x1, x2, v1, v2, c);
-                    *out.next().expect("a result per contact") = PairResult {
-                        force,
-                        damping,
-                        torque_owner,
-                        torque_partner,
-                    };
-                }
-            }
+            let owners = OwnerChunk {
+                rows,
+                slots,
+                counts: &counts[first..(first + CHUNK).min(n)],
+                first,
+                prefetching,
+            };
+            chunk_forces(lanes, law, monomers, owners, results);
         });
 }

@@ -19,7 +19,9 @@
 pub mod contacts;
 mod executor;
 pub mod forces;
+pub mod forces_lanes;
 pub mod integrate;
+pub mod lanes;
 pub mod memory;
 pub mod neighbours;
 mod prefetch;

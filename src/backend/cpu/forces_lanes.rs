@@ -1,0 +1,348 @@
+//! The force pass's contact law four contacts at a time ([`ContactLanes`]): the lane twin of
+//! `pair_geometry` and `pair_interaction_at` (state/interaction.rs) and of
+//! `jkr_contact_radius_ratio` (model/normal.rs).
+//!
+//! Each lane does the operations of the scalar code for its contact in the same order
+//! (lanes.rs), and the JKR inversion's Newton iterations are masked: a lane that has converged
+//! (or stalled, or started below the branch end) keeps its value while the others iterate, so
+//! it stops after the same iteration as the scalar loop would. The results are the scalar
+//! code's to the bit, hence the GPU exact mode's; the tests hold them to that on contacts that
+//! need from zero to many iterations.
+
+use super::forces::PairResult;
+use super::lanes::{F4, M4, V4};
+use super::prefetch::{prefetch_one, prefetch_partners_ahead, prefetch_row_ahead};
+use crate::model::damping::Damping;
+use crate::model::normal::{D_MIN, X_MIN, Y_MIN};
+use crate::model::ContactLaw;
+use crate::state::interaction::pair_interaction;
+use crate::state::{Monomers, PairContact};
+use std::sync::OnceLock;
+
+/// How the force pass evaluates the contact law: one contact at a time, or four at a time in
+/// the target's baseline vector instructions (SSE2 on x86-64: two lanes per register) or in
+/// AVX2 (four per register), chosen at run time. All give the same bits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ContactLanes {
+    Scalar,
+    Portable,
+    Avx2,
+}
+
+/// The environment variable that picks [`ContactLanes`] (`scalar`, `portable`, `avx2`), to
+/// measure one against another; unset, the best the processor has.
+pub const CONTACT_LANES_VAR: &str = "DUSTDEM_CONTACT_LANES";
+
+impl ContactLanes {
+    /// The best this processor runs.
+    pub fn detected() -> ContactLanes {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            return ContactLanes::Avx2;
+        }
+        ContactLanes::Portable
+    }
+
+    /// [`CONTACT_LANES_VAR`] if set (an error names the value and the choices, or says the
+    /// processor lacks it), else [`ContactLanes::detected`].
+    pub fn from_env() -> Result<ContactLanes, String> {
+        let Ok(value) = std::env::var(CONTACT_LANES_VAR) else {
+            return Ok(ContactLanes::detected());
+        };
+        let lanes = match value.as_str() {
+            "scalar" => ContactLanes::Scalar,
+            "portable" => ContactLanes::Portable,
+            "avx2" => ContactLanes::Avx2,
+            _ => {
+                return Err(format!(
+                    "{CONTACT_LANES_VAR}={value:?}: allowed are scalar, portable and avx2"
+                ))
+            }
+        };
+        if lanes == ContactLanes::Avx2 && ContactLanes::detected() != ContactLanes::Avx2 {
+            return Err(format!(
+                "{CONTACT_LANES_VAR}=avx2: this processor has no AVX2 (allowed: scalar, portable)"
+            ));
+        }
+        Ok(lanes)
+    }
+
+    /// What the engine runs: [`ContactLanes::from_env`], read once; an unusable setting falls
+    /// back to the detected lanes (the command line refuses it before any engine starts).
+    pub fn chosen() -> ContactLanes {
+        static CHOSEN: OnceLock<ContactLanes> = OnceLock::new();
+        *CHOSEN.get_or_init(|| ContactLanes::from_env().unwrap_or_else(|_| Self::detected()))
+    }
+
+    /// For reports: which instructions evaluate the contacts.
+    pub fn describe(self) -> &'static str {
+        match self {
+            ContactLanes::Scalar => "scalar f64, one contact at a time",
+            ContactLanes::Portable => "4 contacts at a time, baseline vector instructions",
+            ContactLanes::Avx2 => "4 contacts at a time, AVX2 (4 f64 lanes per register)",
+        }
+    }
+}
+
+/// One chunk of owners as the force pass hands it over: their contact slots (`slots` per
+/// owner), contacts per owner, the first owner's index, and whether to prefetch rows and
+/// partners ahead (`prefetch::worthwhile`).
+#[derive(Clone, Copy)]
+pub struct OwnerChunk<'a> {
+    pub rows: &'a [PairContact],
+    pub slots: usize,
+    pub counts: &'a [u32],
+    pub first: usize,
+    pub prefetching: bool,
+}
+
+impl OwnerChunk<'_> {
+    /// Prefetches what owner `k` of the chunk will need a few owners from now.
+    #[inline(always)]
+    fn prefetch_ahead(&self, m: &Monomers, k: usize) {
+        if self.prefetching {
+            prefetch_row_ahead(self.rows, self.slots, self.counts, k);
+            prefetch_partners_ahead(self.rows, self.slots, self.counts, k, |j| {
+                prefetch_one(&m.position[j]);
+                prefetch_one(&m.velocity[j]);
+            });
+        }
+    }
+
+    /// The slots of owner `k`'s contacts.
+    #[inline(always)]
+    fn contacts_of(&self, k: usize) -> std::ops::Range<usize> {
+        k * self.slots..k * self.slots + self.counts[k] as usize
+    }
+}
+
+/// The contacts of one chunk of owners into `results`, in owner and slot order, `lanes` wide.
+pub fn chunk_forces(
+    lanes: ContactLanes,
+    law: &ContactLaw,
+    m: &Monomers,
+    chunk: OwnerChunk,
+    results: &mut [PairResult],
+) {
+    match lanes {
+        ContactLanes::Scalar => chunk_scalar(law, m, chunk, results),
+        ContactLanes::Portable => chunk_in_lanes(law, m, chunk, results),
+        #[cfg(target_arch = "x86_64")]
+        ContactLanes::Avx2 => {
+            assert!(std::arch::is_x86_feature_detected!("avx2"));
+            // SAFETY: the processor has AVX2 (checked above).
+            unsafe { chunk_avx2(law, m, chunk, results) }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        ContactLanes::Avx2 => chunk_in_lanes(law, m, chunk, results),
+    }
+}
+
+/// One contact at a time: the reference the lanes are held to.
+fn chunk_scalar(law: &ContactLaw, m: &Monomers, chunk: OwnerChunk, results: &mut [PairResult]) {
+    let mut out = results.iter_mut();
+    for k in 0..chunk.counts.len() {
+        chunk.prefetch_ahead(m, k);
+        for c in &chunk.rows[chunk.contacts_of(k)] {
+            *out.next().expect("a result per contact") = scalar_result(law, m, chunk.first + k, c);
+        }
+    }
+}
+
+fn scalar_result(law: &ContactLaw, m: &Monomers, i: usize, c: &PairContact) -> PairResult {
+    let j = c.partner as usize;
+    let (p, v) = (&m.position, &m.velocity);
+    let (force, damping, torque_owner, torque_partner) =
+        pair_interaction(law, p[i], p[j], v[i], v[j], c);
+    PairResult {
+        force,
+        damping,
+        torque_owner,
+        torque_partner,
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn chunk_avx2(
+    law: &ContactLaw,
+    m: &Monomers,
+    chunk: OwnerChunk,
+    results: &mut [PairResult],
+) {
+    chunk_in_lanes(law, m, chunk, results)
+}
+
+/// The chunk's contacts in batches of four; a last batch of fewer goes one at a time.
+#[inline(always)]
+fn chunk_in_lanes(law: &ContactLaw, m: &Monomers, chunk: OwnerChunk, results: &mut [PairResult]) {
+    let rows = chunk.rows;
+    let mut owner = [0usize; 4];
+    let mut slot = [0usize; 4];
+    let mut filled = 0;
+    let mut written = 0;
+    for k in 0..chunk.counts.len() {
+        chunk.prefetch_ahead(m, k);
+        for s in chunk.contacts_of(k) {
+            owner[filled] = chunk.first + k;
+            slot[filled] = s;
+            filled += 1;
+            if filled == 4 {
+                let batch = &mut results[written..written + 4];
+                four_results(law, m, rows, &owner, &slot, batch);
+                written += 4;
+                filled = 0;
+            }
+        }
+    }
+    for l in 0..filled {
+        results[written + l] = scalar_result(law, m, owner[l], &rows[slot[l]]);
+    }
+}
+
+#[inline(always)]
+fn four_results(
+    law: &ContactLaw,
+    m: &Monomers,
+    rows: &[PairContact],
+    owner: &[usize; 4],
+    slot: &[usize; 4],
+    out: &mut [PairResult],
+) {
+    let (p, v) = (&m.position, &m.velocity);
+    let c = [
+        &rows[slot[0]],
+        &rows[slot[1]],
+        &rows[slot[2]],
+        &rows[slot[3]],
+    ];
+    let partner = |l: usize| c[l].partner as usize;
+    let x1 = V4::gather(|l| p[owner[l]]);
+    let x2 = V4::gather(|l| p[partner(l)]);
+    let v1 = V4::gather(|l| v[owner[l]]);
+    let v2 = V4::gather(|l| v[partner(l)]);
+    let n1 = V4::gather(|l| c[l].n1);
+    let n2 = V4::gather(|l| c[l].n2);
+    let twist = F4([c[0].twist, c[1].twist, c[2].twist, c[3].twist]);
+    let g = pair_geometry_lanes(law, x1, x2, v1, v2);
+    let (force, damping, torque_owner, torque_partner) =
+        pair_interaction_at_lanes(law, &g, n1, n2, twist);
+    for (l, out) in out.iter_mut().enumerate() {
+        *out = PairResult {
+            force: force.lane(l),
+            damping: damping.lane(l),
+            torque_owner: torque_owner.lane(l),
+            torque_partner: torque_partner.lane(l),
+        };
+    }
+}
+
+/// `PairGeometry` of four contacts.
+pub struct PairGeometryLanes {
+    pub distance: F4,
+    pub nc: V4,
+    pub normal: V4,
+    pub damping: V4,
+}
+
+/// Lane twin of `pair_geometry`.
+#[inline(always)]
+pub fn pair_geometry_lanes(law: &ContactLaw, x1: V4, x2: V4, v1: V4, v2: V4) -> PairGeometryLanes {
+    let k = &law.pair;
+    let r = law.radius;
+    let d = x1 - x2;
+    let distance = d.length();
+    let nc = d.divide(distance);
+    let x = jkr_contact_radius_ratio_lanes((2.0 * r - distance) / k.delta0);
+    let normal = nc.scale(jkr_force_lanes(x, k.f_c));
+    let v_rel = v1 - v2;
+    let coefficient = damping_coefficient_lanes(law, x * k.a0);
+    let damping = nc.scale(-coefficient * v_rel.dot(nc));
+    PairGeometryLanes {
+        distance,
+        nc,
+        normal,
+        damping,
+    }
+}
+
+/// Lane twin of `damping_coefficient` (the damping law is the same for every lane).
+#[inline(always)]
+fn damping_coefficient_lanes(law: &ContactLaw, a: F4) -> F4 {
+    match law.damping {
+        Damping::None => F4::splat(0.0),
+        Damping::Viscous { kappa } => F4::splat(kappa),
+        Damping::Viscoelastic { t_vis } => {
+            2.0 * law.e_star * t_vis * a / (law.poisson * law.poisson)
+        }
+    }
+}
+
+/// Lane twin of `jkr_force`.
+#[inline(always)]
+fn jkr_force_lanes(x: F4, f_c: f64) -> F4 {
+    4.0 * f_c * (x * x * x - x * x.sqrt())
+}
+
+/// Lane twin of `pair_interaction_at`: (force on 1, damping part, torque on 1, torque on 2).
+#[inline(always)]
+pub fn pair_interaction_at_lanes(
+    law: &ContactLaw,
+    g: &PairGeometryLanes,
+    n1: V4,
+    n2: V4,
+    twist: F4,
+) -> (V4, V4, V4, V4) {
+    let k = &law.pair;
+    let r = law.radius;
+    let nc = g.nc;
+    // rolling_displacement, sliding_displacement, sliding_force, twisting_torque
+    let xi = (n1 + n2).times(k.reduced_radius);
+    let p = n1.times(r) - n2.times(r);
+    let zeta = p - nc.scale(p.dot(nc));
+    let slide = zeta
+        .times(-k.k_s)
+        .scale((n2.times(r) - n1.times(r)).dot(nc) / g.distance);
+    let twist_torque = nc.scale(-k.k_t * twist);
+    // rolling_torque and sliding_torque (sign +1 for 1, −1 for 2)
+    let rolling = -k.reduced_radius * k.k_r;
+    // −sign·r·k_s with sign ±1: (−1)·r and 1·r are −r and r exactly.
+    let sliding_1 = -r * k.k_s;
+    let sliding_2 = r * k.k_s;
+    let torque1 = n1.cross(xi).times(rolling) + n1.cross(zeta).times(sliding_1) + twist_torque;
+    let torque2 = n2.cross(xi).times(rolling) + n2.cross(zeta).times(sliding_2) - twist_torque;
+    (g.normal + g.damping + slide, g.damping, torque1, torque2)
+}
+
+/// Lane twin of `jkr_contact_radius_ratio`: Newton's method on every lane at once, each lane
+/// stopping where the scalar loop would (its value then held by the mask).
+#[inline(always)]
+pub fn jkr_contact_radius_ratio_lanes(d: F4) -> F4 {
+    let below = d.le(F4::splat(D_MIN));
+    let mut y = newton_start_lanes(d);
+    let mut active = M4([true; 4]).and_not(below);
+    for _ in 0..100 {
+        if !active.any() {
+            break;
+        }
+        let y3 = y * y * y;
+        let g = 3.0 * y3 * y - 2.0 * y - d;
+        let slope = 12.0 * y3 - 2.0;
+        let step = g / slope;
+        let next = (y - step).max(Y_MIN);
+        let moving = active.and_not(next.ge(y));
+        y = moving.select(next, y);
+        active = moving.and_not(step.le(1e-15 * y));
+    }
+    below.select(F4::splat(X_MIN), y * y)
+}
+
+/// Lane twin of `newton_start`: both branches, each lane taking its own.
+#[inline(always)]
+fn newton_start_lanes(d: F4) -> F4 {
+    let far = (d + 2.0).sqrt().sqrt().max(1.0);
+    let above = 1.0 + ((100.0 + 72.0 * (d - 1.0)).sqrt() - 10.0) / 36.0;
+    let beneath = 1.0 + (d - 1.0) / 10.0;
+    let near = d.ge(F4::splat(1.0)).select(above, beneath);
+    far.min(near)
+}

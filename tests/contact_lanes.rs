@@ -1,0 +1,204 @@
+//! The force pass's contact law four contacts at a time gives the bits of the scalar code, on
+//! every lane choice the processor runs: contacts from far beyond the JKR branch end (no Newton
+//! iteration) through pulled-apart and squeezed ones (few to many iterations, so lanes of one
+//! batch stop after different iterations), owners with 0 to 12 contacts (batches that span
+//! owners, a last batch of fewer than four), and each damping law.
+
+use dustdem::backend::cpu::forces::PairResult;
+use dustdem::backend::cpu::forces_lanes::{
+    chunk_forces, jkr_contact_radius_ratio_lanes, ContactLanes, OwnerChunk,
+};
+use dustdem::material::Material;
+use dustdem::model::normal::{jkr_contact_radius_ratio, D_MIN};
+use dustdem::model::{ContactLaw, Damping, ModelOptions};
+use dustdem::rng::Rng;
+use dustdem::state::{Monomers, PairContact};
+use glam::DVec3;
+
+const SLOTS: usize = 12;
+
+fn law(damping: Damping) -> ContactLaw {
+    let options = ModelOptions {
+        damping,
+        ..ModelOptions::default()
+    };
+    ContactLaw::new(&Material::silicate(), &options)
+}
+
+fn unit(rng: &mut Rng) -> DVec3 {
+    DVec3::new(rng.normal(), rng.normal(), rng.normal()).normalize()
+}
+
+/// `n` monomers around the origin; owner i's contacts are with random partners placed at a
+/// separation 2r − dδ₀, d spread from below the branch end to deep overlap.
+fn contacts(law: &ContactLaw, n: usize, seed: u64) -> (Monomers, Vec<PairContact>, Vec<u32>) {
+    let mut rng = Rng::new(seed);
+    let r = law.radius;
+    let delta0 = law.pair.delta0;
+    let mut positions: Vec<DVec3> = (0..n).map(|_| unit(&mut rng) * (50.0 * r)).collect();
+    let empty = PairContact {
+        partner: 0,
+        n1: DVec3::X,
+        n2: DVec3::X,
+        twist: 0.0,
+    };
+    let mut rows = vec![empty; n * SLOTS];
+    let mut counts = vec![0u32; n];
+    for i in 0..n {
+        counts[i] = (rng.uniform() * (SLOTS + 1) as f64) as u32 % (SLOTS as u32 + 1);
+        for s in 0..counts[i] as usize {
+            let j = (i + 1 + (rng.uniform() * (n - 1) as f64) as usize) % n;
+            let d = rng.uniform_range(D_MIN - 2.0, 40.0);
+            // The partner sits where it gives overlap d δ₀ (moving it changes other
+            // contacts, which is fine: any separation is a test case).
+            positions[j] = positions[i] + unit(&mut rng) * (2.0 * r - d * delta0);
+            rows[i * SLOTS + s] = PairContact {
+                partner: j as u32,
+                n1: unit(&mut rng),
+                n2: unit(&mut rng),
+                twist: rng.uniform_range(-0.1, 0.1),
+            };
+        }
+    }
+    let mut monomers = Monomers::new(positions);
+    for v in monomers.velocity.iter_mut() {
+        *v = DVec3::new(rng.normal(), rng.normal(), rng.normal()) * 10.0;
+    }
+    (monomers, rows, counts)
+}
+
+fn evaluate(
+    lanes: ContactLanes,
+    law: &ContactLaw,
+    m: &Monomers,
+    rows: &[PairContact],
+    counts: &[u32],
+) -> Vec<PairResult> {
+    let total = counts.iter().sum::<u32>() as usize;
+    let mut results = vec![PairResult::default(); total];
+    let chunk = OwnerChunk {
+        rows,
+        slots: SLOTS,
+        counts,
+        first: 0,
+        prefetching: true,
+    };
+    chunk_forces(lanes, law, m, chunk, &mut results);
+    results
+}
+
+fn bits(results: &[PairResult]) -> Vec<u64> {
+    results
+        .iter()
+        .flat_map(|r| [r.force, r.damping, r.torque_owner, r.torque_partner])
+        .flat_map(|v| v.to_array())
+        .map(f64::to_bits)
+        .collect()
+}
+
+#[test]
+fn every_lane_choice_gives_the_scalar_bits_for_each_damping_law() {
+    let mut choices = vec![ContactLanes::Portable];
+    if ContactLanes::detected() == ContactLanes::Avx2 {
+        choices.push(ContactLanes::Avx2);
+    }
+    eprintln!("lanes tested: {choices:?} against scalar");
+    let laws = [
+        Damping::None,
+        Damping::Viscous { kappa: 1e-6 },
+        Damping::Viscoelastic { t_vis: 5e-12 },
+    ];
+    for (seed, damping) in laws.into_iter().enumerate() {
+        let law = law(damping);
+        let (m, rows, counts) = contacts(&law, 97, seed as u64 + 1);
+        let reference = evaluate(ContactLanes::Scalar, &law, &m, &rows, &counts);
+        assert!(reference.len() > 400, "{} contacts", reference.len());
+        assert!(reference.iter().all(|r| r.force.is_finite()));
+        for &lanes in &choices {
+            let got = evaluate(lanes, &law, &m, &rows, &counts);
+            assert_eq!(got.len(), reference.len());
+            assert!(bits(&got) == bits(&reference), "{lanes:?}, {damping:?}");
+        }
+    }
+}
+
+#[test]
+fn the_masked_newton_iteration_stops_each_lane_where_the_scalar_loop_stops() {
+    // Lanes that need different numbers of iterations side by side, including one below the
+    // branch end (none), one at it, one at equilibrium (d = 1) and deep overlaps (many).
+    let cases = [
+        [D_MIN - 1.0, 1.0, 1e4, 0.3],
+        [D_MIN, -0.5, 3.0, 1e8],
+        [0.999_999, 1e-9, -0.825, 250.0],
+    ];
+    for d in cases {
+        let lanes = jkr_contact_radius_ratio_lanes(dustdem::backend::cpu::lanes::F4(d));
+        for (k, &dk) in d.iter().enumerate() {
+            let scalar = jkr_contact_radius_ratio(dk);
+            assert_eq!(lanes.0[k].to_bits(), scalar.to_bits(), "d = {dk}");
+        }
+    }
+}
+
+mod common;
+
+fn run_with_lanes(dir: &std::path::Path, lanes: Option<&str>) -> std::process::Output {
+    let config = dir.join("run.toml");
+    std::fs::write(
+        &config,
+        "[sample]\nmonomers = 300\nseed = 5\n[experiment]\nkind = \"omni\"\nwall_speed_m_s = 5.0\nphi_stop = 0.3\n",
+    )
+    .unwrap();
+    let out = dir.join(format!("out-{}", lanes.unwrap_or("default")));
+    let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_dustdem"));
+    command.args([
+        "run",
+        config.to_str().unwrap(),
+        "--backend",
+        "cpu",
+        "--quiet",
+        "--out",
+    ]);
+    command.arg(&out);
+    if let Some(lanes) = lanes {
+        command.env(
+            dustdem::backend::cpu::forces_lanes::CONTACT_LANES_VAR,
+            lanes,
+        );
+    }
+    command.output().unwrap()
+}
+
+#[test]
+fn a_run_writes_the_same_curve_whichever_lanes_evaluate_the_contacts() {
+    let dir = common::Scratch::new("contact-lanes-run");
+    let mut curves = vec![];
+    for lanes in [Some("scalar"), Some("portable"), None] {
+        let run = run_with_lanes(dir.path(), lanes);
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let out = dir.join(format!("out-{}", lanes.unwrap_or("default")));
+        curves.push(std::fs::read(out.join("curve.csv")).unwrap());
+    }
+    assert!(curves[0].len() > 1000, "a curve of some rows");
+    assert!(curves[0] == curves[1] && curves[0] == curves[2]);
+}
+
+#[test]
+fn an_unknown_lane_choice_is_refused_naming_the_variable_value_and_choices() {
+    let dir = common::Scratch::new("contact-lanes-bad");
+    let run = run_with_lanes(dir.path(), Some("wide"));
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success());
+    for needle in [
+        "DUSTDEM_CONTACT_LANES",
+        "\"wide\"",
+        "scalar, portable and avx2",
+    ] {
+        assert!(stderr.contains(needle), "{needle}: {stderr}");
+    }
+    assert!(!dir.join("out-wide").exists(), "nothing written");
+}
