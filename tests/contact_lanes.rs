@@ -8,6 +8,7 @@ use dustdem::backend::cpu::forces::PairResult;
 use dustdem::backend::cpu::forces_lanes::{
     chunk_forces, jkr_contact_radius_ratio_lanes, ContactLanes, OwnerChunk,
 };
+use dustdem::backend::cpu::integrate_lanes::{chunk_pairs, PairChunk};
 use dustdem::material::Material;
 use dustdem::model::normal::{jkr_contact_radius_ratio, D_MIN};
 use dustdem::model::{ContactLaw, Damping, ModelOptions};
@@ -29,37 +30,55 @@ fn unit(rng: &mut Rng) -> DVec3 {
     DVec3::new(rng.normal(), rng.normal(), rng.normal()).normalize()
 }
 
-/// `n` monomers around the origin; owner i's contacts are with random partners placed at a
-/// separation 2r − dδ₀, d spread from below the branch end to deep overlap.
-fn contacts(law: &ContactLaw, n: usize, seed: u64) -> (Monomers, Vec<PairContact>, Vec<u32>) {
+/// `n` owners around the origin, each with 0 to 12 contacts to partners of its own (appended
+/// after the owners, so no contact moves another), placed at a separation 2r − dδ₀ with d
+/// spread from below the branch end to deep overlap; pointers `spread` (log-uniform up to it)
+/// away from their equilibrium directions.
+fn contacts(
+    law: &ContactLaw,
+    n: usize,
+    seed: u64,
+    spread: f64,
+) -> (Monomers, Vec<PairContact>, Vec<u32>) {
     let mut rng = Rng::new(seed);
     let r = law.radius;
     let delta0 = law.pair.delta0;
-    let mut positions: Vec<DVec3> = (0..n).map(|_| unit(&mut rng) * (50.0 * r)).collect();
+    let mut positions: Vec<DVec3> = (0..n).map(|_| unit(&mut rng) * (1e3 * r)).collect();
+    let mut contacts = vec![];
+    let mut counts = vec![];
+    for i in 0..n {
+        let count = (rng.uniform() * (SLOTS + 1) as f64) as usize % (SLOTS + 1);
+        counts.push(count as u32);
+        for _ in 0..count {
+            let d = rng.uniform_range(D_MIN - 2.0, 40.0);
+            let nc = unit(&mut rng);
+            positions.push(positions[i] - nc * (2.0 * r - d * delta0));
+            let mut tilt = || unit(&mut rng) * (spread * 10f64.powf(-3.0 * rng.uniform()));
+            let (n1, n2) = ((-nc + tilt()).normalize(), (nc + tilt()).normalize());
+            contacts.push(PairContact {
+                partner: positions.len() as u32 - 1,
+                n1,
+                n2,
+                // φ_crit = 1/(16π) = 0.0199: a few contacts beyond it.
+                twist: rng.uniform_range(-0.022, 0.022),
+            });
+        }
+    }
+    let total = positions.len();
     let empty = PairContact {
         partner: 0,
         n1: DVec3::X,
         n2: DVec3::X,
         twist: 0.0,
     };
-    let mut rows = vec![empty; n * SLOTS];
-    let mut counts = vec![0u32; n];
-    for i in 0..n {
-        counts[i] = (rng.uniform() * (SLOTS + 1) as f64) as u32 % (SLOTS as u32 + 1);
-        for s in 0..counts[i] as usize {
-            let j = (i + 1 + (rng.uniform() * (n - 1) as f64) as usize) % n;
-            let d = rng.uniform_range(D_MIN - 2.0, 40.0);
-            // The partner sits where it gives overlap d δ₀ (moving it changes other
-            // contacts, which is fine: any separation is a test case).
-            positions[j] = positions[i] + unit(&mut rng) * (2.0 * r - d * delta0);
-            rows[i * SLOTS + s] = PairContact {
-                partner: j as u32,
-                n1: unit(&mut rng),
-                n2: unit(&mut rng),
-                twist: rng.uniform_range(-0.1, 0.1),
-            };
+    let mut rows = vec![empty; total * SLOTS];
+    let mut next = contacts.into_iter();
+    for (i, &count) in counts.iter().enumerate() {
+        for s in 0..count as usize {
+            rows[i * SLOTS + s] = next.next().unwrap();
         }
     }
+    counts.resize(total, 0);
     let mut monomers = Monomers::new(positions);
     for v in monomers.velocity.iter_mut() {
         *v = DVec3::new(rng.normal(), rng.normal(), rng.normal()) * 10.0;
@@ -110,7 +129,7 @@ fn every_lane_choice_gives_the_scalar_bits_for_each_damping_law() {
     ];
     for (seed, damping) in laws.into_iter().enumerate() {
         let law = law(damping);
-        let (m, rows, counts) = contacts(&law, 97, seed as u64 + 1);
+        let (m, rows, counts) = contacts(&law, 97, seed as u64 + 1, 1.0);
         let reference = evaluate(ContactLanes::Scalar, &law, &m, &rows, &counts);
         assert!(reference.len() > 400, "{} contacts", reference.len());
         assert!(reference.iter().all(|r| r.force.is_finite()));
@@ -201,4 +220,59 @@ fn an_unknown_lane_choice_is_refused_naming_the_variable_value_and_choices() {
         assert!(stderr.contains(needle), "{needle}: {stderr}");
     }
     assert!(!dir.join("out-wide").exists(), "nothing written");
+}
+
+fn advanced(
+    lanes: ContactLanes,
+    law: &ContactLaw,
+    m: &Monomers,
+    rows: &[PairContact],
+    counts: &[u32],
+) -> (Vec<u64>, Vec<u32>) {
+    let mut rows = rows.to_vec();
+    let mut tests = vec![u32::MAX; counts.len()];
+    let chunk = PairChunk {
+        rows: &mut rows,
+        slots: SLOTS,
+        counts,
+        first: 0,
+        prefetching: true,
+    };
+    // dt large enough that pointers turn measurably and some contacts cross their limits.
+    chunk_pairs(lanes, law, 3e-10, m, chunk, &mut tests);
+    let bits = rows
+        .iter()
+        .flat_map(|c| [c.n1.to_array(), c.n2.to_array(), [c.twist; 3]])
+        .flatten()
+        .map(f64::to_bits)
+        .collect();
+    (bits, tests)
+}
+
+#[test]
+fn the_pair_half_of_the_leap_frog_gives_the_scalar_bits_in_lanes() {
+    let law = law(Damping::Viscous { kappa: 1e-6 });
+    let (mut m, rows, counts) = contacts(&law, 131, 7, 1e-3);
+    let mut rng = Rng::new(99);
+    for (k, w) in m.angular_velocity.iter_mut().enumerate() {
+        // Some monomers do not spin: their pointers must come back unchanged.
+        *w = match k % 5 {
+            0 => DVec3::ZERO,
+            _ => DVec3::new(rng.normal(), rng.normal(), rng.normal()) * 1e5,
+        };
+    }
+    let (reference, reference_tests) = advanced(ContactLanes::Scalar, &law, &m, &rows, &counts);
+    // The tests see both outcomes, so a wrong comparison shows.
+    let beyond = reference_tests.iter().filter(|t| *t & 2 != 0).count();
+    let breaks = reference_tests.iter().filter(|t| *t & 1 != 0).count();
+    let owners = counts.iter().filter(|&&c| c > 0).count();
+    eprintln!("{owners} owners with contacts: {beyond} beyond a limit, {breaks} breaking");
+    assert!(beyond > 10 && beyond + 10 < owners, "{beyond} of {owners}");
+    assert!(breaks > 10 && breaks + 10 < owners, "{breaks} of {owners}");
+    assert!(reference_tests.iter().all(|&t| t <= 3));
+    for lanes in [ContactLanes::Portable, ContactLanes::detected()] {
+        let (bits, tests) = advanced(lanes, &law, &m, &rows, &counts);
+        assert!(bits == reference, "{lanes:?}: pointers and twist");
+        assert_eq!(tests, reference_tests, "{lanes:?}: tests");
+    }
 }

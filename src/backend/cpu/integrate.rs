@@ -5,8 +5,10 @@
 //! parallel with the same bits for any thread count. The twins of the entry points of
 //! shaders/passes/integrate.wgsl, one function each.
 
+use super::forces_lanes::ContactLanes;
+use super::integrate_lanes::{chunk_pairs, PairChunk};
 use super::neighbours::NeighbourList;
-use super::prefetch::{prefetch_one, prefetch_partners_ahead, prefetch_row_ahead, worthwhile};
+use super::prefetch::worthwhile;
 use super::workspace::{split_len, CHUNK};
 use crate::backend::script::{PAIR_TEST_BEYOND, PAIR_TEST_BREAKS};
 use crate::model::pointer::rotate_pointer;
@@ -63,7 +65,8 @@ pub fn integrate_kick(
 /// Both pointers and the twist integral of every pair contact, with the kicked velocities
 /// and the positions before the drift; then the contact's tests for `contacts_scan`
 /// ([`test_pair_contact`]) at the positions the drift is about to store. Parallel over chunks
-/// of owners.
+/// of owners, the contacts of a chunk four at a time where the processor has vector lanes
+/// (`integrate_lanes.rs`, the same bits).
 pub fn integrate_pairs(
     law: &ContactLaw,
     dt: f64,
@@ -71,44 +74,47 @@ pub fn integrate_pairs(
     table: &mut ContactTable,
     pair_tests: &mut [u32],
 ) {
-    let pos = &monomers.position;
-    let vel = &monomers.velocity;
-    let omega = &monomers.angular_velocity;
-    let ps = table.pair_slots;
+    let slots = table.pair_slots;
     let prefetching = worthwhile(table);
+    let lanes = ContactLanes::chosen();
     (
-        table.pair.par_chunks_mut(CHUNK * ps),
+        table.pair.par_chunks_mut(CHUNK * slots),
         table.pair_count.par_chunks(CHUNK),
         pair_tests.par_chunks_mut(CHUNK),
     )
         .into_par_iter()
-        .with_min_len(split_len(pos.len(), CHUNK))
+        .with_min_len(split_len(monomers.len(), CHUNK))
         .enumerate()
         .for_each(|(chunk, (rows, counts, tests))| {
-            let first = chunk * CHUNK;
-            for (k, &count) in counts.iter().enumerate() {
-                let i = first + k;
-                if prefetching {
-                    prefetch_row_ahead(rows, ps, counts, k);
-                    prefetch_partners_ahead(rows, ps, counts, k, |j| {
-                        prefetch_one(&pos[j]);
-                        prefetch_one(&vel[j]);
-                        prefetch_one(&omega[j]);
-                    });
-                }
-                let mut bits = 0;
-                for c in &mut rows[k * ps..k * ps + count as usize] {
-                    let j = c.partner as usize;
-                    // Contact normal at mid-step, x(n+½) = x(n) + v(n+½) dt/2.
-                    let nc_mid = ((pos[i] - pos[j]) + (vel[i] - vel[j]) * (0.5 * dt)).normalize();
-                    c.twist += twist_increment(omega[i] - omega[j], nc_mid, dt);
-                    c.n1 = rotate_pointer(c.n1, omega[i] * dt);
-                    c.n2 = rotate_pointer(c.n2, omega[j] * dt);
-                    bits |= test_pair_contact(law, pos[i] + vel[i] * dt, pos[j] + vel[j] * dt, c);
-                }
-                tests[k] = bits;
-            }
+            let owners = PairChunk {
+                rows,
+                slots,
+                counts,
+                first: chunk * CHUNK,
+                prefetching,
+            };
+            chunk_pairs(lanes, law, dt, monomers, owners, tests);
         });
+}
+
+/// One pair contact of owner `i` through `integrate_pairs`: the twist integral and both
+/// pointers advanced, then its tests ([`test_pair_contact`]).
+#[inline]
+pub fn integrate_pair_contact(
+    law: &ContactLaw,
+    dt: f64,
+    m: &Monomers,
+    i: usize,
+    c: &mut PairContact,
+) -> u32 {
+    let (pos, vel, omega) = (&m.position, &m.velocity, &m.angular_velocity);
+    let j = c.partner as usize;
+    // Contact normal at mid-step, x(n+½) = x(n) + v(n+½) dt/2.
+    let nc_mid = ((pos[i] - pos[j]) + (vel[i] - vel[j]) * (0.5 * dt)).normalize();
+    c.twist += twist_increment(omega[i] - omega[j], nc_mid, dt);
+    c.n1 = rotate_pointer(c.n1, omega[i] * dt);
+    c.n2 = rotate_pointer(c.n2, omega[j] * dt);
+    test_pair_contact(law, pos[i] + vel[i] * dt, pos[j] + vel[j] * dt, c)
 }
 
 /// What `contacts_scan` needs to know of one pair contact, at the positions, pointers and twist

@@ -113,6 +113,16 @@ impl F4 {
     }
 
     #[inline(always)]
+    pub fn eq(self, b: F4) -> M4 {
+        M4([
+            self.0[0] == b.0[0],
+            self.0[1] == b.0[1],
+            self.0[2] == b.0[2],
+            self.0[3] == b.0[3],
+        ])
+    }
+
+    #[inline(always)]
     pub fn ge(self, b: F4) -> M4 {
         M4([
             self.0[0] >= b.0[0],
@@ -214,6 +224,22 @@ impl V4 {
             y: self.y / s,
             z: self.z / s,
         }
+    }
+
+    /// Lane by lane, `a` where `mask` is set, `b` where not.
+    #[inline(always)]
+    pub fn select(mask: M4, a: V4, b: V4) -> V4 {
+        V4 {
+            x: mask.select(a.x, b.x),
+            y: mask.select(a.y, b.y),
+            z: mask.select(a.z, b.z),
+        }
+    }
+
+    /// glam's `normalize`: times the reciprocal of the length.
+    #[inline(always)]
+    pub fn normalize(self) -> V4 {
+        self.scale(1.0 / self.length())
     }
 
     /// Each component times `s`, the same in every lane.

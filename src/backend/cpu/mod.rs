@@ -21,6 +21,7 @@ mod executor;
 pub mod forces;
 pub mod forces_lanes;
 pub mod integrate;
+pub mod integrate_lanes;
 pub mod lanes;
 pub mod memory;
 pub mod neighbours;
