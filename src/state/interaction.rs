@@ -6,7 +6,9 @@
 
 use super::{Monomers, PairContact, Wall, WallContact};
 use crate::model::damping::damping_coefficient;
-use crate::model::normal::{jkr_contact_radius_ratio, jkr_force, jkr_potential_at_overlap};
+use crate::model::normal::{
+    jkr_contact_radius_ratio, jkr_force, jkr_potential_at_overlap, jkr_potential_at_overlap_with,
+};
 use crate::model::{rolling, sliding, twisting, wall as wall_law, ContactLaw};
 use glam::DVec3;
 
@@ -17,6 +19,9 @@ use glam::DVec3;
 #[derive(Clone, Copy, Debug)]
 pub struct PairGeometry {
     pub distance: f64,
+    /// Overlap ratio δ/δ₀ and the contact radius ratio a/a₀ it gives.
+    pub overlap_ratio: f64,
+    pub radius_ratio: f64,
     /// Unit vector from 2 to 1 (d / |d|).
     pub nc: DVec3,
     /// JKR force on 1.
@@ -34,13 +39,16 @@ pub fn pair_geometry(law: &ContactLaw, x1: DVec3, x2: DVec3, v1: DVec3, v2: DVec
     let d = x1 - x2;
     let distance = d.length();
     let nc = d / distance;
-    let x = jkr_contact_radius_ratio((2.0 * r - distance) / k.delta0);
+    let overlap_ratio = (2.0 * r - distance) / k.delta0;
+    let x = jkr_contact_radius_ratio(overlap_ratio);
     let normal = nc * jkr_force(x, k.f_c);
     let coefficient = damping_coefficient(&law.damping, x * k.a0, law.e_star, law.poisson);
     let v_rel = v1 - v2;
     let damping = nc * (-coefficient * v_rel.dot(nc));
     PairGeometry {
         distance,
+        overlap_ratio,
+        radius_ratio: x,
         nc,
         normal,
         damping,
@@ -96,7 +104,7 @@ pub fn pair_contact_potential(law: &ContactLaw, x1: DVec3, x2: DVec3, c: &PairCo
 /// The JKR part of [`pair_contact_potential`] at a known [`PairGeometry`].
 pub fn pair_normal_potential(law: &ContactLaw, g: &PairGeometry) -> f64 {
     let k = &law.pair;
-    jkr_potential_at_overlap((2.0 * law.radius - g.distance) / k.delta0, k.f_c, k.delta0)
+    jkr_potential_at_overlap_with(g.radius_ratio, g.overlap_ratio, k.f_c, k.delta0)
 }
 
 /// The JKR potential `normal` plus the rolling, sliding and twisting potentials of a contact
