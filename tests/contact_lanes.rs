@@ -4,6 +4,7 @@
 //! batch stop after different iterations), owners with 0 to 12 contacts (batches that span
 //! owners, a last batch of fewer than four), and each damping law.
 
+use dustdem::backend::cpu::corrections_lanes::chunk_corrections;
 use dustdem::backend::cpu::forces::PairResult;
 use dustdem::backend::cpu::forces_lanes::{
     chunk_forces, jkr_contact_radius_ratio_lanes, ContactLanes, OwnerChunk,
@@ -13,7 +14,7 @@ use dustdem::material::Material;
 use dustdem::model::normal::{jkr_contact_radius_ratio, D_MIN};
 use dustdem::model::{ContactLaw, Damping, ModelOptions};
 use dustdem::rng::Rng;
-use dustdem::state::{Monomers, PairContact};
+use dustdem::state::{Dissipation, Monomers, PairContact};
 use glam::DVec3;
 
 const SLOTS: usize = 12;
@@ -274,5 +275,55 @@ fn the_pair_half_of_the_leap_frog_gives_the_scalar_bits_in_lanes() {
         let (bits, tests) = advanced(lanes, &law, &m, &rows, &counts);
         assert!(bits == reference, "{lanes:?}: pointers and twist");
         assert_eq!(tests, reference_tests, "{lanes:?}: tests");
+    }
+}
+
+fn corrected(
+    lanes: ContactLanes,
+    law: &ContactLaw,
+    m: &Monomers,
+    rows: &[PairContact],
+    counts: &[u32],
+) -> (Vec<u64>, Dissipation) {
+    let mut rows = rows.to_vec();
+    let mut tally = Dissipation::default();
+    let owners = rows
+        .chunks_mut(SLOTS)
+        .zip(counts)
+        .enumerate()
+        .map(|(i, (row, &count))| (i, &mut row[..count as usize]));
+    chunk_corrections(lanes, law, 3e-10, m, owners, &mut tally);
+    let bits = rows
+        .iter()
+        .flat_map(|c| [c.n1.to_array(), c.n2.to_array(), [c.twist; 3]])
+        .flatten()
+        .map(f64::to_bits)
+        .collect();
+    (bits, tally)
+}
+
+#[test]
+fn the_corrections_book_the_scalar_dissipation_bits_in_lanes() {
+    let law = law(Damping::Viscous { kappa: 1e-6 });
+    let (mut m, rows, counts) = contacts(&law, 131, 11, 1e-2);
+    let mut rng = Rng::new(3);
+    for w in m.angular_velocity.iter_mut() {
+        *w = DVec3::new(rng.normal(), rng.normal(), rng.normal()) * 1e5;
+    }
+    let (reference, tally) = corrected(ContactLanes::Scalar, &law, &m, &rows, &counts);
+    eprintln!("scalar tally: {tally:?}");
+    // Every channel booked something, so a channel mixed up shows.
+    assert!(tally.rolling != 0.0 && tally.sliding != 0.0 && tally.twisting != 0.0);
+    for lanes in [ContactLanes::Portable, ContactLanes::detected()] {
+        let (bits, got) = corrected(lanes, &law, &m, &rows, &counts);
+        assert!(bits == reference, "{lanes:?}: corrected pointers and twist");
+        for (a, b) in [
+            (got.rolling, tally.rolling),
+            (got.sliding, tally.sliding),
+            (got.twisting, tally.twisting),
+        ] {
+            assert_eq!(a.to_bits(), b.to_bits(), "{lanes:?}: {got:?}");
+        }
+        assert_eq!(got, tally, "{lanes:?}: other channels untouched");
     }
 }

@@ -8,7 +8,8 @@
 //! chunks, each summing its dissipation in owner order); a row's events are the same whatever
 //! the thread count.
 
-use super::forces::apply_inelastic_limits;
+use super::corrections_lanes::chunk_corrections;
+use super::forces_lanes::ContactLanes;
 use super::walls::{wall_contacts_of, WallResult};
 use super::workspace::{split_len, sum_in_order, Workspace, CHUNK};
 use crate::backend::script::{OWNER_CORRECTIONS, OWNER_EVENTS, OWNER_INDEX, OWNER_WALLS};
@@ -72,6 +73,7 @@ pub fn contacts(
         starts,
     };
     workspace.size_wall_results(n * ws);
+    let lanes = ContactLanes::chosen();
     // Owners are few and far between in the list, so rows are not prefetched here.
     let chunks: Vec<Result<(Dissipation, bool), EngineError>> = (
         table.pair.par_chunks_mut(CHUNK * ps),
@@ -88,7 +90,8 @@ pub fn contacts(
                 let mut dissipated = Dissipation::default();
                 let mut changed = false;
                 let first = chunk * CHUNK;
-                for &item in items_of(work, first, pair_counts.len()) {
+                let items = items_of(work, first, pair_counts.len());
+                for &item in items {
                     let k = (item & OWNER_INDEX) as usize - first;
                     let mut row = Row {
                         pair: &mut pairs[k * ps..(k + 1) * ps],
@@ -99,6 +102,19 @@ pub fn contacts(
                     let results = &mut results[k * ws..(k + 1) * ws];
                     changed |= owner_work(&shared, item, &mut row, results, &mut dissipated)?;
                 }
+                // After the events, which may add contacts the corrections then see; the
+                // corrections book only their own channels, so their order against the
+                // events' and walls' bookings does not matter.
+                let corrected = items.iter().filter(|w| *w & OWNER_CORRECTIONS != 0);
+                let rows = pairs.chunks_mut(ps).zip(pair_counts.iter()).enumerate();
+                let mut rows =
+                    rows.map(|(k, (row, &count))| (first + k, &mut row[..count as usize]));
+                let owners = corrected.map(|w| {
+                    let i = (w & OWNER_INDEX) as usize;
+                    rows.find(|(owner, _)| *owner == i)
+                        .expect("a listed owner's row")
+                });
+                chunk_corrections(lanes, law, dt, monomers, owners, &mut dissipated);
                 Ok((dissipated, changed))
             },
         )
@@ -128,11 +144,6 @@ fn owner_work(
     if item & OWNER_EVENTS != 0 {
         let mine = &s.candidates[s.starts[i] as usize..s.starts[i + 1] as usize];
         changed = contact_events(s.law, s.dt, s.monomers, s.walls, mine, i, row, dissipated)?;
-    }
-    if item & OWNER_CORRECTIONS != 0 {
-        for c in &mut row.pair[..*row.pair_count as usize] {
-            apply_inelastic_limits(s.law, s.monomers, s.dt, i, c, dissipated);
-        }
     }
     if item & OWNER_WALLS != 0 {
         let count = *row.wall_count as usize;

@@ -240,9 +240,12 @@ fn four_results(
 /// `PairGeometry` of four contacts.
 pub struct PairGeometryLanes {
     pub distance: F4,
+    pub overlap_ratio: F4,
+    pub radius_ratio: F4,
     pub nc: V4,
     pub normal: V4,
     pub damping: V4,
+    pub v_rel: V4,
 }
 
 /// Lane twin of `pair_geometry`.
@@ -253,16 +256,20 @@ pub fn pair_geometry_lanes(law: &ContactLaw, x1: V4, x2: V4, v1: V4, v2: V4) -> 
     let d = x1 - x2;
     let distance = d.length();
     let nc = d.divide(distance);
-    let x = jkr_contact_radius_ratio_lanes((2.0 * r - distance) / k.delta0);
+    let overlap_ratio = (2.0 * r - distance) / k.delta0;
+    let x = jkr_contact_radius_ratio_lanes(overlap_ratio);
     let normal = nc.scale(jkr_force_lanes(x, k.f_c));
     let v_rel = v1 - v2;
     let coefficient = damping_coefficient_lanes(law, x * k.a0);
     let damping = nc.scale(-coefficient * v_rel.dot(nc));
     PairGeometryLanes {
         distance,
+        overlap_ratio,
+        radius_ratio: x,
         nc,
         normal,
         damping,
+        v_rel,
     }
 }
 

@@ -17,6 +17,7 @@
 //! for any thread count; one thread runs the same code.
 
 pub mod contacts;
+pub mod corrections_lanes;
 mod executor;
 pub mod forces;
 pub mod forces_lanes;

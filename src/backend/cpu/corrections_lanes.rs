@@ -1,0 +1,258 @@
+//! The pair contacts' inelastic corrections of one chunk of owners, their step energies four
+//! at a time: `apply_inelastic_limits` (forces.rs) split into its three parts.
+//!
+//! 1. Per contact, in order, the corrections change pointers and twist exactly as the scalar
+//!    code does (they need no energy), and every state whose step energy the scalar code
+//!    evaluates is noted: the contact before its first correction and after each one.
+//! 2. Those step energies, four states at a time (the lane twin of `pair_geometry`,
+//!    `pair_normal_potential` and `pair_step_energy_at`; each lane evaluates its own
+//!    geometry, which the scalar code shares between a contact's states: the same inputs and
+//!    operations, so the same bits).
+//! 3. The drops booked channel by channel in the scalar order (owner, contact, rolling before
+//!    sliding before twisting), so the tally is the scalar code's to the bit.
+//!
+//! In a compressed sample most contacts of a flagged owner roll or slide every step, and these
+//! energies were most of the contacts pass (DESIGN.md, "The CPU engine on many cores").
+
+use super::forces::apply_inelastic_limits;
+use super::forces_lanes::{pair_geometry_lanes, pair_interaction_at_lanes, ContactLanes};
+use super::lanes::{F4, V4};
+use crate::model::normal::{jkr_force, D_MIN, X_AT_ZERO_OVERLAP, X_MIN};
+use crate::model::{rolling, sliding, twisting, ContactLaw};
+use crate::state::interaction::{pair_geometry, pair_normal_potential, pair_step_energy_at};
+use crate::state::{Dissipation, Monomers, PairContact};
+
+/// One state whose step energy the booking needs: owner `i`'s contact as it stood then.
+#[derive(Clone, Copy)]
+struct EnergyOf {
+    i: usize,
+    state: PairContact,
+}
+
+/// Which corrections one contact had; its energies are `first..first + 1 + corrections`.
+#[derive(Clone, Copy)]
+struct Booking {
+    first: usize,
+    rolled: bool,
+    slid: bool,
+    twisted: bool,
+}
+
+/// The corrections of the owners `rows` lists (owner index, its contacts), `lanes` wide,
+/// their dissipation added to `tally`.
+pub fn chunk_corrections<'a>(
+    lanes: ContactLanes,
+    law: &ContactLaw,
+    dt: f64,
+    m: &Monomers,
+    rows: impl Iterator<Item = (usize, &'a mut [PairContact])>,
+    tally: &mut Dissipation,
+) {
+    if lanes == ContactLanes::Scalar {
+        for (i, contacts) in rows {
+            for c in contacts {
+                apply_inelastic_limits(law, m, dt, i, c, tally);
+            }
+        }
+        return;
+    }
+    let mut states = vec![];
+    let mut bookings = vec![];
+    for (i, contacts) in rows {
+        for c in contacts {
+            if let Some(b) = correct(law, m, i, c, &mut states) {
+                bookings.push(b);
+            }
+        }
+    }
+    let energies = step_energies(lanes, law, dt, m, &states);
+    for b in bookings {
+        let mut e = energies[b.first..].iter();
+        let mut before = *e.next().expect("the state before");
+        let mut book = |channel: &mut f64| {
+            let after = *e.next().expect("a state per correction");
+            *channel += before - after;
+            before = after;
+        };
+        if b.rolled {
+            book(&mut tally.rolling);
+        }
+        if b.slid {
+            book(&mut tally.sliding);
+        }
+        if b.twisted {
+            book(&mut tally.twisting);
+        }
+    }
+}
+
+/// `apply_inelastic_limits` without the energies: the corrections applied to `c`, the states
+/// to evaluate pushed on `states`; `None` where nothing was corrected.
+fn correct(
+    law: &ContactLaw,
+    m: &Monomers,
+    i: usize,
+    c: &mut PairContact,
+    states: &mut Vec<EnergyOf>,
+) -> Option<Booking> {
+    let k = &law.pair;
+    let r = law.radius;
+    let p = &m.position;
+    let nc = (p[i] - p[c.partner as usize]).normalize();
+    let first = states.len();
+    let before = *c;
+    let mut booking = Booking {
+        first,
+        rolled: false,
+        slid: false,
+        twisted: false,
+    };
+    // The state before the first correction, then the state after each.
+    let corrected = |c: &PairContact, states: &mut Vec<EnergyOf>| {
+        if states.len() == first {
+            states.push(EnergyOf { i, state: before });
+        }
+        states.push(EnergyOf { i, state: *c });
+    };
+    if let Some((n1, n2)) = rolling::rolling_correction(c.n1, c.n2, k.reduced_radius, k.xi_crit) {
+        c.n1 = n1;
+        c.n2 = n2;
+        corrected(c, states);
+        booking.rolled = true;
+    }
+    if let Some((n1, n2)) = sliding::sliding_correction(c.n1, c.n2, nc, r, r, k.zeta_crit) {
+        c.n1 = n1;
+        c.n2 = n2;
+        corrected(c, states);
+        booking.slid = true;
+    }
+    if let Some(twist) = twisting::twisting_correction(c.twist, k.phi_crit) {
+        c.twist = twist;
+        corrected(c, states);
+        booking.twisted = true;
+    }
+    (booking.rolled || booking.slid || booking.twisted).then_some(booking)
+}
+
+/// The step energy of every noted state, in order, `lanes` wide; a last batch of fewer than
+/// four goes through the scalar code.
+fn step_energies(
+    lanes: ContactLanes,
+    law: &ContactLaw,
+    dt: f64,
+    m: &Monomers,
+    states: &[EnergyOf],
+) -> Vec<f64> {
+    let mut energies = vec![0.0; states.len()];
+    let batches = states.len() / 4;
+    match lanes {
+        #[cfg(target_arch = "x86_64")]
+        ContactLanes::Avx2 => {
+            assert!(std::arch::is_x86_feature_detected!("avx2"));
+            // SAFETY: the processor has AVX2 (checked above).
+            unsafe { batches_avx2(law, dt, m, &states[..4 * batches], &mut energies) }
+        }
+        _ => batches_in_lanes(law, dt, m, &states[..4 * batches], &mut energies),
+    }
+    for (k, s) in states.iter().enumerate().skip(4 * batches) {
+        energies[k] = scalar_step_energy(law, dt, m, s);
+    }
+    energies
+}
+
+fn scalar_step_energy(law: &ContactLaw, dt: f64, m: &Monomers, s: &EnergyOf) -> f64 {
+    let (p, v, w) = (&m.position, &m.velocity, &m.angular_velocity);
+    let (i, j) = (s.i, s.state.partner as usize);
+    let g = pair_geometry(law, p[i], p[j], v[i], v[j]);
+    let u = pair_normal_potential(law, &g);
+    pair_step_energy_at(law, &g, u, w[i], w[j], dt, &s.state)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn batches_avx2(
+    law: &ContactLaw,
+    dt: f64,
+    m: &Monomers,
+    states: &[EnergyOf],
+    energies: &mut [f64],
+) {
+    batches_in_lanes(law, dt, m, states, energies)
+}
+
+#[inline(always)]
+fn batches_in_lanes(
+    law: &ContactLaw,
+    dt: f64,
+    m: &Monomers,
+    states: &[EnergyOf],
+    energies: &mut [f64],
+) {
+    let (p, v, w) = (&m.position, &m.velocity, &m.angular_velocity);
+    for (four, out) in states.chunks_exact(4).zip(energies.chunks_exact_mut(4)) {
+        let i = |l: usize| four[l].i;
+        let j = |l: usize| four[l].state.partner as usize;
+        let e = step_energy_lanes(
+            law,
+            dt,
+            [V4::gather(|l| p[i(l)]), V4::gather(|l| p[j(l)])],
+            [V4::gather(|l| v[i(l)]), V4::gather(|l| v[j(l)])],
+            [V4::gather(|l| w[i(l)]), V4::gather(|l| w[j(l)])],
+            [
+                V4::gather(|l| four[l].state.n1),
+                V4::gather(|l| four[l].state.n2),
+            ],
+            F4(std::array::from_fn(|l| four[l].state.twist)),
+        );
+        out.copy_from_slice(&e.0);
+    }
+}
+
+/// Lane twin of `pair_step_energy`: positions, velocities, spins and pointers of owner and
+/// partner, the twist.
+#[inline(always)]
+fn step_energy_lanes(
+    law: &ContactLaw,
+    dt: f64,
+    [x1, x2]: [V4; 2],
+    [v1, v2]: [V4; 2],
+    [w1, w2]: [V4; 2],
+    [n1, n2]: [V4; 2],
+    twist: F4,
+) -> F4 {
+    let k = &law.pair;
+    let r = law.radius;
+    let g = pair_geometry_lanes(law, x1, x2, v1, v2);
+    let normal = normal_potential_lanes(law, g.radius_ratio, g.overlap_ratio);
+    let (f, fd, m1, m2) = pair_interaction_at_lanes(law, &g, n1, n2, twist);
+    let work = (f - fd).dot(g.v_rel) + m1.dot(w1) + m2.dot(w2);
+    // pair_potential_with: rolling, sliding and twisting potentials added in that order.
+    let xi = (n1 + n2).times(k.reduced_radius);
+    let p = n1.times(r) - n2.times(r);
+    let zeta = p - g.nc.scale(p.dot(g.nc));
+    let potential = normal
+        + 0.5 * k.k_r * xi.dot(xi)
+        + 0.5 * k.k_s * zeta.dot(zeta)
+        + 0.5 * k.k_t * twist * twist;
+    potential + 0.5 * dt * work
+}
+
+/// Lane twin of `jkr_potential_at_overlap_with` (x the radius ratio of overlap ratio d).
+#[inline(always)]
+fn normal_potential_lanes(law: &ContactLaw, x: F4, d: F4) -> F4 {
+    let k = &law.pair;
+    let shape = |x: F4| {
+        let x2 = x * x;
+        4.0 * (1.2 * x2 * x2 * x - 2.0 * x2 * x * x.sqrt() + 0.5 * x2)
+    };
+    let zero = shape(F4::splat(X_AT_ZERO_OVERLAP));
+    let u = k.f_c * k.delta0 * (shape(x) - zero);
+    let stretched = u + jkr_force(X_MIN, k.f_c) * (d - D_MIN) * k.delta0;
+    F4(std::array::from_fn(|l| {
+        if d.0[l] < D_MIN {
+            stretched.0[l]
+        } else {
+            u.0[l]
+        }
+    }))
+}
