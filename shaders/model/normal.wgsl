@@ -73,7 +73,12 @@ fn jkr_potential(x: f64, f_c: f64, delta0: f64) -> f64 {
 // Normal potential at any overlap ratio, continued linearly below the branch end with the force
 // at x_min: the energy the contact holds at the step it breaks.
 fn jkr_potential_at_overlap(d: f64, f_c: f64, delta0: f64) -> f64 {
-    let u = jkr_potential(jkr_contact_radius_ratio(d), f_c, delta0);
+    return jkr_potential_at_overlap_with(jkr_contact_radius_ratio(d), d, f_c, delta0);
+}
+
+// jkr_potential_at_overlap where the contact radius ratio x of d is known.
+fn jkr_potential_at_overlap_with(x: f64, d: f64, f_c: f64, delta0: f64) -> f64 {
+    let u = jkr_potential(x, f_c, delta0);
     if d < D_MIN {
         return u + jkr_force(X_MIN, f_c) * (d - D_MIN) * delta0;
     }
