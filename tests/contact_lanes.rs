@@ -228,6 +228,15 @@ fn an_unknown_lane_choice_is_refused_naming_the_variable_value_and_choices() {
     assert!(!dir.join("out-wide").exists(), "nothing written");
 }
 
+/// Every pointer component and twist of `rows`, as bits.
+fn row_bits(rows: &[PairContact]) -> Vec<u64> {
+    rows.iter()
+        .flat_map(|c| [c.n1.to_array(), c.n2.to_array(), [c.twist; 3]])
+        .flatten()
+        .map(f64::to_bits)
+        .collect()
+}
+
 fn advanced(
     lanes: ContactLanes,
     law: &ContactLaw,
@@ -246,13 +255,7 @@ fn advanced(
     };
     // dt large enough that pointers turn measurably and some contacts cross their limits.
     chunk_pairs(lanes, law, 3e-10, m, chunk, &mut tests);
-    let bits = rows
-        .iter()
-        .flat_map(|c| [c.n1.to_array(), c.n2.to_array(), [c.twist; 3]])
-        .flatten()
-        .map(f64::to_bits)
-        .collect();
-    (bits, tests)
+    (row_bits(&rows), tests)
 }
 
 #[test]
@@ -298,13 +301,7 @@ fn corrected(
         .enumerate()
         .map(|(i, (row, &count))| (i, &mut row[..count as usize]));
     chunk_corrections(lanes, law, 3e-10, m, owners, &mut tally);
-    let bits = rows
-        .iter()
-        .flat_map(|c| [c.n1.to_array(), c.n2.to_array(), [c.twist; 3]])
-        .flatten()
-        .map(f64::to_bits)
-        .collect();
-    (bits, tally)
+    (row_bits(&rows), tally)
 }
 
 #[test]

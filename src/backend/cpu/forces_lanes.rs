@@ -84,44 +84,52 @@ impl ContactLanes {
     }
 }
 
-/// One chunk of owners as the force pass hands it over: their contact slots (`slots` per
-/// owner), contacts per owner, the first owner's index, and whether to prefetch rows and
-/// partners ahead (`prefetch::worthwhile`).
+/// One chunk of owners as a per-contact pass hands it over: their contact slots (`slots` per
+/// owner; `R` is `&[PairContact]` for the force pass, `&mut` for `integrate_pairs`), contacts
+/// per owner, the first owner's index, and whether to prefetch rows and partners ahead
+/// (`prefetch::worthwhile`).
 #[derive(Clone, Copy)]
-pub struct OwnerChunk<'a> {
-    pub rows: &'a [PairContact],
+pub struct OwnerChunk<'a, R> {
+    pub rows: R,
     pub slots: usize,
     pub counts: &'a [u32],
     pub first: usize,
     pub prefetching: bool,
 }
 
-impl OwnerChunk<'_> {
-    /// Prefetches what owner `k` of the chunk will need a few owners from now.
+impl<R: std::ops::Deref<Target = [PairContact]>> OwnerChunk<'_, R> {
+    /// Prefetches what owner `k` of the chunk will need a few owners from now: its partners'
+    /// positions and velocities, and their spins where `spins`.
     #[inline(always)]
-    fn prefetch_ahead(&self, m: &Monomers, k: usize) {
+    pub(super) fn prefetch_ahead(&self, m: &Monomers, k: usize, spins: bool) {
         if self.prefetching {
-            prefetch_row_ahead(self.rows, self.slots, self.counts, k);
-            prefetch_partners_ahead(self.rows, self.slots, self.counts, k, |j| {
+            prefetch_row_ahead(&self.rows, self.slots, self.counts, k);
+            prefetch_partners_ahead(&self.rows, self.slots, self.counts, k, |j| {
                 prefetch_one(&m.position[j]);
                 prefetch_one(&m.velocity[j]);
+                if spins {
+                    prefetch_one(&m.angular_velocity[j]);
+                }
             });
         }
     }
 
     /// The slots of owner `k`'s contacts.
     #[inline(always)]
-    fn contacts_of(&self, k: usize) -> std::ops::Range<usize> {
+    pub(super) fn contacts_of(&self, k: usize) -> std::ops::Range<usize> {
         k * self.slots..k * self.slots + self.counts[k] as usize
     }
 }
+
+/// The force pass's chunk: it reads the rows.
+pub type ForceChunk<'a> = OwnerChunk<'a, &'a [PairContact]>;
 
 /// The contacts of one chunk of owners into `results`, in owner and slot order, `lanes` wide.
 pub fn chunk_forces(
     lanes: ContactLanes,
     law: &ContactLaw,
     m: &Monomers,
-    chunk: OwnerChunk,
+    chunk: ForceChunk,
     results: &mut [PairResult],
 ) {
     match lanes {
@@ -139,10 +147,10 @@ pub fn chunk_forces(
 }
 
 /// One contact at a time: the reference the lanes are held to.
-fn chunk_scalar(law: &ContactLaw, m: &Monomers, chunk: OwnerChunk, results: &mut [PairResult]) {
+fn chunk_scalar(law: &ContactLaw, m: &Monomers, chunk: ForceChunk, results: &mut [PairResult]) {
     let mut out = results.iter_mut();
     for k in 0..chunk.counts.len() {
-        chunk.prefetch_ahead(m, k);
+        chunk.prefetch_ahead(m, k, false);
         for c in &chunk.rows[chunk.contacts_of(k)] {
             *out.next().expect("a result per contact") = scalar_result(law, m, chunk.first + k, c);
         }
@@ -167,7 +175,7 @@ fn scalar_result(law: &ContactLaw, m: &Monomers, i: usize, c: &PairContact) -> P
 unsafe fn chunk_avx2(
     law: &ContactLaw,
     m: &Monomers,
-    chunk: OwnerChunk,
+    chunk: ForceChunk,
     results: &mut [PairResult],
 ) {
     chunk_in_lanes(law, m, chunk, results)
@@ -175,14 +183,14 @@ unsafe fn chunk_avx2(
 
 /// The chunk's contacts in batches of four; a last batch of fewer goes one at a time.
 #[inline(always)]
-fn chunk_in_lanes(law: &ContactLaw, m: &Monomers, chunk: OwnerChunk, results: &mut [PairResult]) {
+fn chunk_in_lanes(law: &ContactLaw, m: &Monomers, chunk: ForceChunk, results: &mut [PairResult]) {
     let rows = chunk.rows;
     let mut owner = [0usize; 4];
     let mut slot = [0usize; 4];
     let mut filled = 0;
     let mut written = 0;
     for k in 0..chunk.counts.len() {
-        chunk.prefetch_ahead(m, k);
+        chunk.prefetch_ahead(m, k, false);
         for s in chunk.contacts_of(k) {
             owner[filled] = chunk.first + k;
             slot[filled] = s;

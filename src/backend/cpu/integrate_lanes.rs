@@ -6,42 +6,15 @@
 //! (lanes.rs), so pointers, twist and tests are the scalar code's bits; a pointer whose
 //! monomer does not spin is kept as it is, as the scalar code returns it.
 
-use super::forces_lanes::ContactLanes;
+use super::forces_lanes::{ContactLanes, OwnerChunk};
 use super::integrate::integrate_pair_contact;
 use super::lanes::{F4, V4};
-use super::prefetch::{prefetch_one, prefetch_partners_ahead, prefetch_row_ahead};
 use crate::backend::script::{PAIR_TEST_BEYOND, PAIR_TEST_BREAKS};
 use crate::model::ContactLaw;
 use crate::state::{Monomers, PairContact};
 
-/// One chunk of owners as `integrate_pairs` hands it over: their contact slots (`slots` per
-/// owner), contacts per owner, the first owner's index, and whether to prefetch ahead.
-pub struct PairChunk<'a> {
-    pub rows: &'a mut [PairContact],
-    pub slots: usize,
-    pub counts: &'a [u32],
-    pub first: usize,
-    pub prefetching: bool,
-}
-
-impl PairChunk<'_> {
-    #[inline(always)]
-    fn prefetch_ahead(&self, m: &Monomers, k: usize) {
-        if self.prefetching {
-            prefetch_row_ahead(self.rows, self.slots, self.counts, k);
-            prefetch_partners_ahead(self.rows, self.slots, self.counts, k, |j| {
-                prefetch_one(&m.position[j]);
-                prefetch_one(&m.velocity[j]);
-                prefetch_one(&m.angular_velocity[j]);
-            });
-        }
-    }
-
-    #[inline(always)]
-    fn contacts_of(&self, k: usize) -> std::ops::Range<usize> {
-        k * self.slots..k * self.slots + self.counts[k] as usize
-    }
-}
+/// `integrate_pairs`' chunk of owners: it advances the rows in place.
+pub type PairChunk<'a> = OwnerChunk<'a, &'a mut [PairContact]>;
 
 /// The chunk's pair contacts advanced and tested, `lanes` wide; `tests[k]` gets owner k's
 /// tests.
@@ -69,7 +42,7 @@ pub fn chunk_pairs(
 
 fn chunk_scalar(law: &ContactLaw, dt: f64, m: &Monomers, chunk: PairChunk, tests: &mut [u32]) {
     for (k, test) in tests.iter_mut().enumerate() {
-        chunk.prefetch_ahead(m, k);
+        chunk.prefetch_ahead(m, k, true);
         let mut bits = 0;
         for s in chunk.contacts_of(k) {
             bits |= integrate_pair_contact(law, dt, m, chunk.first + k, &mut chunk.rows[s]);
@@ -92,7 +65,7 @@ fn chunk_in_lanes(law: &ContactLaw, dt: f64, m: &Monomers, chunk: PairChunk, tes
     let mut slot = [0usize; 4];
     let mut filled = 0;
     for k in 0..tests.len() {
-        chunk.prefetch_ahead(m, k);
+        chunk.prefetch_ahead(m, k, true);
         tests[k] = 0;
         for s in chunk.contacts_of(k) {
             owner[filled] = k;
