@@ -4,10 +4,10 @@
 //! 1. Per contact, in order, the corrections change pointers and twist exactly as the scalar
 //!    code does (they need no energy), and every state whose step energy the scalar code
 //!    evaluates is noted: the contact before its first correction and after each one.
-//! 2. Those step energies, four states at a time (the lane twin of `pair_geometry`,
-//!    `pair_normal_potential` and `pair_step_energy_at`; each lane evaluates its own
-//!    geometry, which the scalar code shares between a contact's states: the same inputs and
-//!    operations, so the same bits).
+//! 2. Those step energies: first each corrected contact's geometry and JKR potential, four
+//!    contacts at a time (the lane twins of `pair_geometry` and `pair_normal_potential`),
+//!    shared between its states as the scalar code shares them; then the step energies,
+//!    four states at a time (the lane twin of `pair_step_energy_at`).
 //! 3. The drops booked channel by channel in the scalar order (owner, contact, rolling before
 //!    sliding before twisting), so the tally is the scalar code's to the bit.
 //!
@@ -15,18 +15,38 @@
 //! energies were most of the contacts pass (DESIGN.md, "The CPU engine on many cores").
 
 use super::forces::apply_inelastic_limits;
-use super::forces_lanes::{pair_geometry_lanes, pair_interaction_at_lanes, ContactLanes};
+use super::forces_lanes::{
+    pair_geometry_lanes, pair_interaction_at_lanes, ContactLanes, PairGeometryLanes,
+};
 use super::lanes::{F4, V4};
 use crate::model::normal::{jkr_force, D_MIN, X_AT_ZERO_OVERLAP, X_MIN};
 use crate::model::{rolling, sliding, twisting, ContactLaw};
-use crate::state::interaction::{pair_geometry, pair_normal_potential, pair_step_energy_at};
+use crate::state::interaction::{
+    pair_geometry, pair_normal_potential, pair_step_energy_at, PairGeometry,
+};
 use crate::state::{Dissipation, Monomers, PairContact};
 
-/// One state whose step energy the booking needs: owner `i`'s contact as it stood then.
+/// One state whose step energy the booking needs: contact `contact` of the chunk's corrected
+/// contacts as it stood then.
 #[derive(Clone, Copy)]
 struct EnergyOf {
-    i: usize,
+    contact: usize,
     state: PairContact,
+}
+
+/// A corrected contact: owner and partner.
+#[derive(Clone, Copy)]
+struct Corrected {
+    i: usize,
+    j: usize,
+}
+
+/// What a corrected contact's states share, as `apply_inelastic_limits` shares it: the
+/// geometry and its JKR potential.
+#[derive(Clone, Copy)]
+struct Shared {
+    geometry: PairGeometry,
+    normal_potential: f64,
 }
 
 /// Which corrections one contact had; its energies are `first..first + 1 + corrections`.
@@ -57,15 +77,22 @@ pub fn chunk_corrections<'a>(
         return;
     }
     let mut states = vec![];
+    let mut contacts = vec![];
     let mut bookings = vec![];
-    for (i, contacts) in rows {
-        for c in contacts {
-            if let Some(b) = correct(law, m, i, c, &mut states) {
+    for (i, row) in rows {
+        for c in row {
+            let contact = Corrected {
+                i,
+                j: c.partner as usize,
+            };
+            if let Some(b) = correct(law, m, contact, contacts.len(), c, &mut states) {
+                contacts.push(contact);
                 bookings.push(b);
             }
         }
     }
-    let energies = step_energies(lanes, law, dt, m, &states);
+    let shared = shared_geometries(lanes, law, m, &contacts);
+    let energies = step_energies(lanes, law, dt, m, &contacts, &shared, &states);
     for b in bookings {
         let mut e = energies[b.first..].iter();
         let mut before = *e.next().expect("the state before");
@@ -91,14 +118,15 @@ pub fn chunk_corrections<'a>(
 fn correct(
     law: &ContactLaw,
     m: &Monomers,
-    i: usize,
+    Corrected { i, j }: Corrected,
+    contact: usize,
     c: &mut PairContact,
     states: &mut Vec<EnergyOf>,
 ) -> Option<Booking> {
     let k = &law.pair;
     let r = law.radius;
     let p = &m.position;
-    let nc = (p[i] - p[c.partner as usize]).normalize();
+    let nc = (p[i] - p[j]).normalize();
     let first = states.len();
     let before = *c;
     let mut booking = Booking {
@@ -110,9 +138,12 @@ fn correct(
     // The state before the first correction, then the state after each.
     let corrected = |c: &PairContact, states: &mut Vec<EnergyOf>| {
         if states.len() == first {
-            states.push(EnergyOf { i, state: before });
+            states.push(EnergyOf {
+                contact,
+                state: before,
+            });
         }
-        states.push(EnergyOf { i, state: *c });
+        states.push(EnergyOf { contact, state: *c });
     };
     if let Some((n1, n2)) = rolling::rolling_correction(c.n1, c.n2, k.reduced_radius, k.xi_crit) {
         c.n1 = n1;
@@ -134,70 +165,163 @@ fn correct(
     (booking.rolled || booking.slid || booking.twisted).then_some(booking)
 }
 
-/// The step energy of every noted state, in order, `lanes` wide; a last batch of fewer than
-/// four goes through the scalar code.
-fn step_energies(
+/// The geometry and JKR potential of every corrected contact, `lanes` wide; a last batch of
+/// fewer than four goes through the scalar code.
+fn shared_geometries(
     lanes: ContactLanes,
     law: &ContactLaw,
-    dt: f64,
     m: &Monomers,
-    states: &[EnergyOf],
-) -> Vec<f64> {
-    let mut energies = vec![0.0; states.len()];
-    let batches = states.len() / 4;
+    contacts: &[Corrected],
+) -> Vec<Shared> {
+    let mut shared = Vec::with_capacity(contacts.len());
+    let batches = contacts.len() / 4;
     match lanes {
         #[cfg(target_arch = "x86_64")]
         ContactLanes::Avx2 => {
             assert!(std::arch::is_x86_feature_detected!("avx2"));
             // SAFETY: the processor has AVX2 (checked above).
-            unsafe { batches_avx2(law, dt, m, &states[..4 * batches], &mut energies) }
+            unsafe { geometries_avx2(law, m, &contacts[..4 * batches], &mut shared) }
         }
-        _ => batches_in_lanes(law, dt, m, &states[..4 * batches], &mut energies),
+        _ => geometries_in_lanes(law, m, &contacts[..4 * batches], &mut shared),
     }
-    for (k, s) in states.iter().enumerate().skip(4 * batches) {
-        energies[k] = scalar_step_energy(law, dt, m, s);
+    let (p, v) = (&m.position, &m.velocity);
+    for &Corrected { i, j } in &contacts[4 * batches..] {
+        let geometry = pair_geometry(law, p[i], p[j], v[i], v[j]);
+        let normal_potential = pair_normal_potential(law, &geometry);
+        shared.push(Shared {
+            geometry,
+            normal_potential,
+        });
     }
-    energies
-}
-
-fn scalar_step_energy(law: &ContactLaw, dt: f64, m: &Monomers, s: &EnergyOf) -> f64 {
-    let (p, v, w) = (&m.position, &m.velocity, &m.angular_velocity);
-    let (i, j) = (s.i, s.state.partner as usize);
-    let g = pair_geometry(law, p[i], p[j], v[i], v[j]);
-    let u = pair_normal_potential(law, &g);
-    pair_step_energy_at(law, &g, u, w[i], w[j], dt, &s.state)
+    shared
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn batches_avx2(
+unsafe fn geometries_avx2(
     law: &ContactLaw,
-    dt: f64,
     m: &Monomers,
-    states: &[EnergyOf],
-    energies: &mut [f64],
+    contacts: &[Corrected],
+    shared: &mut Vec<Shared>,
 ) {
-    batches_in_lanes(law, dt, m, states, energies)
+    geometries_in_lanes(law, m, contacts, shared)
 }
 
 #[inline(always)]
-fn batches_in_lanes(
+fn geometries_in_lanes(
+    law: &ContactLaw,
+    m: &Monomers,
+    contacts: &[Corrected],
+    shared: &mut Vec<Shared>,
+) {
+    let (p, v) = (&m.position, &m.velocity);
+    for four in contacts.chunks_exact(4) {
+        let (i, j) = (|l: usize| four[l].i, |l: usize| four[l].j);
+        let g = pair_geometry_lanes(
+            law,
+            V4::gather(|l| p[i(l)]),
+            V4::gather(|l| p[j(l)]),
+            V4::gather(|l| v[i(l)]),
+            V4::gather(|l| v[j(l)]),
+        );
+        let normal = normal_potential_lanes(law, g.radius_ratio, g.overlap_ratio);
+        shared.extend((0..4).map(|l| Shared {
+            geometry: PairGeometry {
+                distance: g.distance.0[l],
+                overlap_ratio: g.overlap_ratio.0[l],
+                radius_ratio: g.radius_ratio.0[l],
+                nc: g.nc.lane(l),
+                normal: g.normal.lane(l),
+                damping: g.damping.lane(l),
+                v_rel: g.v_rel.lane(l),
+            },
+            normal_potential: normal.0[l],
+        }));
+    }
+}
+
+/// The step energy of every noted state, in order, `lanes` wide, from its contact's shared
+/// geometry; a last batch of fewer than four goes through the scalar code.
+fn step_energies(
+    lanes: ContactLanes,
     law: &ContactLaw,
     dt: f64,
     m: &Monomers,
+    contacts: &[Corrected],
+    shared: &[Shared],
     states: &[EnergyOf],
-    energies: &mut [f64],
-) {
-    let (p, v, w) = (&m.position, &m.velocity, &m.angular_velocity);
+) -> Vec<f64> {
+    let mut energies = vec![0.0; states.len()];
+    let batches = states.len() / 4;
+    let at = Energies {
+        law,
+        dt,
+        m,
+        contacts,
+        shared,
+    };
+    match lanes {
+        #[cfg(target_arch = "x86_64")]
+        ContactLanes::Avx2 => {
+            assert!(std::arch::is_x86_feature_detected!("avx2"));
+            // SAFETY: the processor has AVX2 (checked above).
+            unsafe { energies_avx2(&at, &states[..4 * batches], &mut energies) }
+        }
+        _ => energies_in_lanes(&at, &states[..4 * batches], &mut energies),
+    }
+    let w = &m.angular_velocity;
+    for (k, s) in states.iter().enumerate().skip(4 * batches) {
+        let Corrected { i, j } = contacts[s.contact];
+        let Shared {
+            geometry,
+            normal_potential,
+        } = &shared[s.contact];
+        energies[k] =
+            pair_step_energy_at(law, geometry, *normal_potential, w[i], w[j], dt, &s.state);
+    }
+    energies
+}
+
+/// What the step energies of the noted states read.
+struct Energies<'a> {
+    law: &'a ContactLaw,
+    dt: f64,
+    m: &'a Monomers,
+    contacts: &'a [Corrected],
+    shared: &'a [Shared],
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn energies_avx2(at: &Energies, states: &[EnergyOf], energies: &mut [f64]) {
+    energies_in_lanes(at, states, energies)
+}
+
+#[inline(always)]
+fn energies_in_lanes(at: &Energies, states: &[EnergyOf], energies: &mut [f64]) {
+    let w = &at.m.angular_velocity;
     for (four, out) in states.chunks_exact(4).zip(energies.chunks_exact_mut(4)) {
-        let i = |l: usize| four[l].i;
-        let j = |l: usize| four[l].state.partner as usize;
+        let contact = |l: usize| at.contacts[four[l].contact];
+        let shared = |l: usize| &at.shared[four[l].contact];
+        let g = |l: usize| &shared(l).geometry;
+        let geometry = PairGeometryLanes {
+            distance: F4(std::array::from_fn(|l| g(l).distance)),
+            overlap_ratio: F4(std::array::from_fn(|l| g(l).overlap_ratio)),
+            radius_ratio: F4(std::array::from_fn(|l| g(l).radius_ratio)),
+            nc: V4::gather(|l| g(l).nc),
+            normal: V4::gather(|l| g(l).normal),
+            damping: V4::gather(|l| g(l).damping),
+            v_rel: V4::gather(|l| g(l).v_rel),
+        };
         let e = step_energy_lanes(
-            law,
-            dt,
-            [V4::gather(|l| p[i(l)]), V4::gather(|l| p[j(l)])],
-            [V4::gather(|l| v[i(l)]), V4::gather(|l| v[j(l)])],
-            [V4::gather(|l| w[i(l)]), V4::gather(|l| w[j(l)])],
+            at.law,
+            at.dt,
+            &geometry,
+            F4(std::array::from_fn(|l| shared(l).normal_potential)),
+            [
+                V4::gather(|l| w[contact(l).i]),
+                V4::gather(|l| w[contact(l).j]),
+            ],
             [
                 V4::gather(|l| four[l].state.n1),
                 V4::gather(|l| four[l].state.n2),
@@ -208,23 +332,21 @@ fn batches_in_lanes(
     }
 }
 
-/// Lane twin of `pair_step_energy`: positions, velocities, spins and pointers of owner and
-/// partner, the twist.
+/// Lane twin of `pair_step_energy_at`: the contacts' geometry and JKR potential, the spins of
+/// owner and partner, the pointers and the twist.
 #[inline(always)]
 fn step_energy_lanes(
     law: &ContactLaw,
     dt: f64,
-    [x1, x2]: [V4; 2],
-    [v1, v2]: [V4; 2],
+    g: &PairGeometryLanes,
+    normal: F4,
     [w1, w2]: [V4; 2],
     [n1, n2]: [V4; 2],
     twist: F4,
 ) -> F4 {
     let k = &law.pair;
     let r = law.radius;
-    let g = pair_geometry_lanes(law, x1, x2, v1, v2);
-    let normal = normal_potential_lanes(law, g.radius_ratio, g.overlap_ratio);
-    let (f, fd, m1, m2) = pair_interaction_at_lanes(law, &g, n1, n2, twist);
+    let (f, fd, m1, m2) = pair_interaction_at_lanes(law, g, n1, n2, twist);
     let work = (f - fd).dot(g.v_rel) + m1.dot(w1) + m2.dot(w2);
     // pair_potential_with: rolling, sliding and twisting potentials added in that order.
     let xi = (n1 + n2).times(k.reduced_radius);
