@@ -282,6 +282,31 @@ fn lammps_runs_the_deck_where_it_is_installed() {
     let run = lammps::parse_log(&log).unwrap();
     assert_eq!(run.atoms, 200);
     assert!(run.contacts_per_monomer.unwrap() > 0.5, "{run:?}");
+    whole_runs_are_made(&out, &header, &row);
+}
+
+/// `bench --lammps`'s whole runs: both processes ran the same steps, whole rows of 100 and at
+/// least the warm-up plus the CPU engine's measurement, and their rates are in bench.csv.
+fn whole_runs_are_made(out: &std::path::Path, header: &[String], row: &[&str]) {
+    let cell = |name: &str| row[header.iter().position(|h| h == name).unwrap()];
+    let steps: u64 = cell("whole_run_steps").parse().unwrap();
+    let measured: u64 =
+        cell("warmup_steps").parse::<u64>().unwrap() + cell("cpu_t1_steps").parse::<u64>().unwrap();
+    assert!(steps.is_multiple_of(100) && steps >= measured && steps < measured + 100);
+    for name in ["whole_run_dustdem_rate", "whole_run_lammps_rate"] {
+        assert!(cell(name).parse::<f64>().unwrap() > 0.0, "{name}");
+    }
+    let curve = std::fs::read_to_string(out.join("whole_run/n200/run/curve.csv")).unwrap();
+    let last = curve.lines().last().unwrap();
+    assert_eq!(last.split(',').next().unwrap(), steps.to_string());
+    let logs: Vec<_> = std::fs::read_dir(out.join("lammps/n200"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.to_string_lossy().contains("log.whole1."))
+        .collect();
+    assert_eq!(logs.len(), 1, "{logs:?}");
+    let run = lammps::parse_log(&std::fs::read_to_string(&logs[0]).unwrap()).unwrap();
+    assert_eq!((run.steps, run.atoms), (steps, 200));
 }
 
 fn pool() -> rayon::ThreadPool {

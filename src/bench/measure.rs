@@ -175,6 +175,16 @@ pub fn time_gpu(engine: &mut GpuEngine, steps: u64) -> Result<f64, String> {
     Ok(clock.elapsed().as_secs_f64())
 }
 
+/// Adds one round's pass times (seconds over `steps` steps) per step to `sum`.
+pub fn add_passes(sum: &mut Vec<f64>, seconds: &[f64], steps: u64) {
+    if sum.len() != seconds.len() {
+        *sum = vec![0.0; seconds.len()];
+    }
+    for (m, s) in sum.iter_mut().zip(seconds) {
+        *m += s / steps as f64;
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -8,7 +8,8 @@
 //! medians over rounds; ratios are medians of the per-round ratios with their range.
 //!
 //! Here: the plan per N (sample, warm-up, steps, rounds). `options` checks the arguments,
-//! `measure` times one side, `table` writes the files, `lammps` exports and runs the deck.
+//! `measure` times one side, `table` writes the files, `lammps` exports and runs the deck,
+//! `whole_run` times whole `dustdem run` and `lmp` processes.
 
 pub mod lammps;
 pub mod measure;
@@ -17,6 +18,7 @@ pub mod options;
 pub mod prepare;
 pub mod stats;
 pub mod table;
+pub mod whole_run;
 
 pub use options::{Options, SampleState, Threads};
 
@@ -28,16 +30,20 @@ use crate::config::Config;
 use crate::experiment::setup::{build_sample, build_walls, stored_monomers};
 use crate::output::atomic::write_atomic;
 use lammps::Lammps;
-use measure::{probe, sides, steps_for, Side, SideKind};
+use measure::{add_passes, probe, sides, steps_for, Side, SideKind};
 use std::path::PathBuf;
 
 /// The benchmark's compression of `n` monomers: the project's defaults (Seizinger et al.'s
 /// unmodified model, dt 0.3 ns) with an RBD sample of seed 1 and the top wall at 1 m/s.
 pub fn benchmark_config(n: usize) -> Result<Config, String> {
-    let text = format!(
+    Config::parse(&benchmark_config_text(n), "benchmark").map_err(|e| e.to_string())
+}
+
+/// [`benchmark_config`] as a config file's text (its `[experiment]` table last).
+pub fn benchmark_config_text(n: usize) -> String {
+    format!(
         "[sample]\nmonomers = {n}\nseed = 1\n[experiment]\nkind = \"omni\"\nwall_speed_m_s = 1.0\n"
-    );
-    Config::parse(&text, "benchmark").map_err(|e| e.to_string())
+    )
 }
 
 /// The engine of [`benchmark_config`]`(n)` at time 0, with the sample and walls it was made
@@ -96,6 +102,8 @@ pub struct SizeResult {
     pub peak_rss_per_size: bool,
     /// LAMMPS's overlapping pairs per monomer at the end of its one-rank runs.
     pub lammps_contacts_per_monomer: Option<f64>,
+    /// `dustdem run` against `lmp`, whole processes (fresh samples with `--lammps`).
+    pub whole_run: Option<whole_run::WholeRun>,
 }
 
 /// One side at one N.
@@ -441,6 +449,17 @@ fn measure_size(
         }
     }
     drop(gpu_engine);
+    let whole_run = whole_run::for_size(
+        n,
+        sample == SampleState::Fresh,
+        options,
+        sides,
+        &results,
+        &setup.lammps,
+        warmup_steps,
+        &lammps_dir,
+        progress,
+    );
     Ok(SizeResult {
         n,
         sample,
@@ -451,17 +470,8 @@ fn measure_size(
         peak_rss_bytes: memory::peak_rss_bytes(),
         peak_rss_per_size,
         lammps_contacts_per_monomer: lammps_contacts,
+        whole_run,
     })
-}
-
-/// Adds one round's pass times (seconds over `steps` steps) per step to `sum`.
-fn add_passes(sum: &mut Vec<f64>, seconds: &[f64], steps: u64) {
-    if sum.len() != seconds.len() {
-        *sum = vec![0.0; seconds.len()];
-    }
-    for (m, s) in sum.iter_mut().zip(seconds) {
-        *m += s / steps as f64;
-    }
 }
 
 /// "AMD EPYC …, 2 logical CPUs" from /proc/cpuinfo where there is one, and which instructions

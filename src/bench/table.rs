@@ -234,6 +234,10 @@ pub fn markdown(report: &Report) -> String {
             ));
         }
     }
+    s.push_str(&super::whole_run::markdown(&report.sizes));
+    let mut line = |text: &str| {
+        let _ = writeln!(s, "{text}");
+    };
     if !report.notes.is_empty() {
         line("");
         line("### Notes");
@@ -274,6 +278,7 @@ pub fn csv_header(report: &Report) -> Vec<String> {
     }
     if report.options.lammps {
         h.push("lammps_contacts_per_monomer".into());
+        h.extend(super::whole_run::CSV_COLUMNS.map(String::from));
     }
     for side in &report.sides {
         for name in side.pass_names() {
@@ -340,6 +345,7 @@ pub fn csv(report: &Report) -> String {
         }
         if report.options.lammps {
             row.push(cell(size.lammps_contacts_per_monomer));
+            row.extend(super::whole_run::csv_cells(size.whole_run.as_ref()));
         }
         for (side, r) in report.sides.iter().zip(&size.sides) {
             for k in 0..side.pass_names().len() {
