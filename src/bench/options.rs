@@ -87,6 +87,9 @@ pub struct Options {
     /// measured (the fresh sample's measurement runs at 1 m/s).
     pub prepare_speed_m_s: f64,
     pub out: PathBuf,
+    /// The dustdem executable `--lammps`'s whole runs start (the command line sets its own);
+    /// `None`: no whole runs.
+    pub dustdem_exe: Option<PathBuf>,
 }
 
 impl Default for Options {
@@ -102,6 +105,7 @@ impl Default for Options {
             samples: vec![SampleState::Fresh],
             prepare_speed_m_s: 1.0,
             out: PathBuf::from("bench"),
+            dustdem_exe: None,
         }
     }
 }
@@ -148,6 +152,7 @@ impl Options {
             samples: vec![SampleState::Fresh],
             prepare_speed_m_s: 1.0,
             out,
+            dustdem_exe: None,
         })
     }
 

@@ -119,7 +119,14 @@ pub fn main() -> ExitCode {
             out,
         } => BenchOptions::parse(&sizes, seconds, rounds, &threads, &backends, lammps, out)
             .and_then(|o| o.with_samples(&samples, prepare_speed))
-            .and_then(|o| bench(BenchOptions { sample_order, ..o })),
+            .and_then(|o| {
+                bench(BenchOptions {
+                    sample_order,
+                    // This executable runs the whole runs of `--lammps`.
+                    dustdem_exe: std::env::current_exe().ok(),
+                    ..o
+                })
+            }),
         Command::Sweep {
             action: Some(SweepAction::Collect { dir }),
             ..
