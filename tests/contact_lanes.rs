@@ -10,6 +10,9 @@ use dustdem::backend::cpu::forces_lanes::{
     chunk_forces, jkr_contact_radius_ratio_lanes, ContactLanes, OwnerChunk,
 };
 use dustdem::backend::cpu::integrate_lanes::{chunk_pairs, PairChunk};
+#[cfg(target_arch = "x86_64")]
+use dustdem::backend::cpu::lanes::Avx2;
+use dustdem::backend::cpu::lanes::{Portable, F4};
 use dustdem::material::Material;
 use dustdem::model::normal::{jkr_contact_radius_ratio, D_MIN};
 use dustdem::model::{ContactLaw, Damping, ModelOptions};
@@ -152,10 +155,18 @@ fn the_masked_newton_iteration_stops_each_lane_where_the_scalar_loop_stops() {
         [0.999_999, 1e-9, -0.825, 250.0],
     ];
     for d in cases {
-        let lanes = jkr_contact_radius_ratio_lanes(dustdem::backend::cpu::lanes::F4(d));
-        for (k, &dk) in d.iter().enumerate() {
-            let scalar = jkr_contact_radius_ratio(dk);
-            assert_eq!(lanes.0[k].to_bits(), scalar.to_bits(), "d = {dk}");
+        let portable = jkr_contact_radius_ratio_lanes(F4::<Portable>::new(d)).0;
+        let mut results = vec![("portable", portable)];
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            let avx2 = jkr_contact_radius_ratio_lanes(F4::<Avx2>::new(d)).0;
+            results.push(("avx2", avx2));
+        }
+        for (isa, lanes) in results {
+            for (k, &dk) in d.iter().enumerate() {
+                let scalar = jkr_contact_radius_ratio(dk);
+                assert_eq!(lanes[k].to_bits(), scalar.to_bits(), "{isa}, d = {dk}");
+            }
         }
     }
 }

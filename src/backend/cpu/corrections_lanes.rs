@@ -18,7 +18,9 @@ use super::forces::apply_inelastic_limits;
 use super::forces_lanes::{
     pair_geometry_lanes, pair_interaction_at_lanes, ContactLanes, PairGeometryLanes,
 };
-use super::lanes::{F4, V4};
+#[cfg(target_arch = "x86_64")]
+use super::lanes::Avx2;
+use super::lanes::{Isa, Portable, F4, V4};
 use crate::model::normal::{jkr_force, D_MIN, X_AT_ZERO_OVERLAP, X_MIN};
 use crate::model::{rolling, sliding, twisting, ContactLaw};
 use crate::state::interaction::{
@@ -182,7 +184,7 @@ fn shared_geometries(
             // SAFETY: the processor has AVX2 (checked above).
             unsafe { geometries_avx2(law, m, &contacts[..4 * batches], &mut shared) }
         }
-        _ => geometries_in_lanes(law, m, &contacts[..4 * batches], &mut shared),
+        _ => geometries_in_lanes::<Portable>(law, m, &contacts[..4 * batches], &mut shared),
     }
     let (p, v) = (&m.position, &m.velocity);
     for &Corrected { i, j } in &contacts[4 * batches..] {
@@ -204,11 +206,11 @@ unsafe fn geometries_avx2(
     contacts: &[Corrected],
     shared: &mut Vec<Shared>,
 ) {
-    geometries_in_lanes(law, m, contacts, shared)
+    geometries_in_lanes::<Avx2>(law, m, contacts, shared)
 }
 
 #[inline(always)]
-fn geometries_in_lanes(
+fn geometries_in_lanes<S: Isa>(
     law: &ContactLaw,
     m: &Monomers,
     contacts: &[Corrected],
@@ -219,10 +221,10 @@ fn geometries_in_lanes(
         let (i, j) = (|l: usize| four[l].i, |l: usize| four[l].j);
         let g = pair_geometry_lanes(
             law,
-            V4::gather(|l| p[i(l)]),
-            V4::gather(|l| p[j(l)]),
-            V4::gather(|l| v[i(l)]),
-            V4::gather(|l| v[j(l)]),
+            V4::<S>::gather(|l| p[i(l)]),
+            V4::<S>::gather(|l| p[j(l)]),
+            V4::<S>::gather(|l| v[i(l)]),
+            V4::<S>::gather(|l| v[j(l)]),
         );
         let normal = normal_potential_lanes(law, g.radius_ratio, g.overlap_ratio);
         shared.extend((0..4).map(|l| Shared {
@@ -267,7 +269,7 @@ fn step_energies(
             // SAFETY: the processor has AVX2 (checked above).
             unsafe { energies_avx2(&at, &states[..4 * batches], &mut energies) }
         }
-        _ => energies_in_lanes(&at, &states[..4 * batches], &mut energies),
+        _ => energies_in_lanes::<Portable>(&at, &states[..4 * batches], &mut energies),
     }
     let w = &m.angular_velocity;
     for (k, s) in states.iter().enumerate().skip(4 * batches) {
@@ -294,39 +296,39 @@ struct Energies<'a> {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn energies_avx2(at: &Energies, states: &[EnergyOf], energies: &mut [f64]) {
-    energies_in_lanes(at, states, energies)
+    energies_in_lanes::<Avx2>(at, states, energies)
 }
 
 #[inline(always)]
-fn energies_in_lanes(at: &Energies, states: &[EnergyOf], energies: &mut [f64]) {
+fn energies_in_lanes<S: Isa>(at: &Energies, states: &[EnergyOf], energies: &mut [f64]) {
     let w = &at.m.angular_velocity;
     for (four, out) in states.chunks_exact(4).zip(energies.chunks_exact_mut(4)) {
         let contact = |l: usize| at.contacts[four[l].contact];
         let shared = |l: usize| &at.shared[four[l].contact];
         let g = |l: usize| &shared(l).geometry;
         let geometry = PairGeometryLanes {
-            distance: F4(std::array::from_fn(|l| g(l).distance)),
-            overlap_ratio: F4(std::array::from_fn(|l| g(l).overlap_ratio)),
-            radius_ratio: F4(std::array::from_fn(|l| g(l).radius_ratio)),
-            nc: V4::gather(|l| g(l).nc),
-            normal: V4::gather(|l| g(l).normal),
-            damping: V4::gather(|l| g(l).damping),
-            v_rel: V4::gather(|l| g(l).v_rel),
+            distance: F4::<S>::new(std::array::from_fn(|l| g(l).distance)),
+            overlap_ratio: F4::<S>::new(std::array::from_fn(|l| g(l).overlap_ratio)),
+            radius_ratio: F4::<S>::new(std::array::from_fn(|l| g(l).radius_ratio)),
+            nc: V4::<S>::gather(|l| g(l).nc),
+            normal: V4::<S>::gather(|l| g(l).normal),
+            damping: V4::<S>::gather(|l| g(l).damping),
+            v_rel: V4::<S>::gather(|l| g(l).v_rel),
         };
         let e = step_energy_lanes(
             at.law,
             at.dt,
             &geometry,
-            F4(std::array::from_fn(|l| shared(l).normal_potential)),
+            F4::<S>::new(std::array::from_fn(|l| shared(l).normal_potential)),
             [
-                V4::gather(|l| w[contact(l).i]),
-                V4::gather(|l| w[contact(l).j]),
+                V4::<S>::gather(|l| w[contact(l).i]),
+                V4::<S>::gather(|l| w[contact(l).j]),
             ],
             [
-                V4::gather(|l| four[l].state.n1),
-                V4::gather(|l| four[l].state.n2),
+                V4::<S>::gather(|l| four[l].state.n1),
+                V4::<S>::gather(|l| four[l].state.n2),
             ],
-            F4(std::array::from_fn(|l| four[l].state.twist)),
+            F4::<S>::new(std::array::from_fn(|l| four[l].state.twist)),
         );
         out.copy_from_slice(&e.0);
     }
@@ -335,15 +337,15 @@ fn energies_in_lanes(at: &Energies, states: &[EnergyOf], energies: &mut [f64]) {
 /// Lane twin of `pair_step_energy_at`: the contacts' geometry and JKR potential, the spins of
 /// owner and partner, the pointers and the twist.
 #[inline(always)]
-fn step_energy_lanes(
+fn step_energy_lanes<S: Isa>(
     law: &ContactLaw,
     dt: f64,
-    g: &PairGeometryLanes,
-    normal: F4,
-    [w1, w2]: [V4; 2],
-    [n1, n2]: [V4; 2],
-    twist: F4,
-) -> F4 {
+    g: &PairGeometryLanes<S>,
+    normal: F4<S>,
+    [w1, w2]: [V4<S>; 2],
+    [n1, n2]: [V4<S>; 2],
+    twist: F4<S>,
+) -> F4<S> {
     let k = &law.pair;
     let r = law.radius;
     let (f, fd, m1, m2) = pair_interaction_at_lanes(law, g, n1, n2, twist);
@@ -361,20 +363,25 @@ fn step_energy_lanes(
 
 /// Lane twin of `jkr_potential_at_overlap_with` (x the radius ratio of overlap ratio d).
 #[inline(always)]
-fn normal_potential_lanes(law: &ContactLaw, x: F4, d: F4) -> F4 {
+fn normal_potential_lanes<S: Isa>(law: &ContactLaw, x: F4<S>, d: F4<S>) -> F4<S> {
     let k = &law.pair;
-    let shape = |x: F4| {
-        let x2 = x * x;
-        4.0 * (1.2 * x2 * x2 * x - 2.0 * x2 * x * x.sqrt() + 0.5 * x2)
-    };
-    let zero = shape(F4::splat(X_AT_ZERO_OVERLAP));
-    let u = k.f_c * k.delta0 * (shape(x) - zero);
+    let zero = jkr_shape_lanes(F4::<S>::splat(X_AT_ZERO_OVERLAP));
+    let u = k.f_c * k.delta0 * (jkr_shape_lanes(x) - zero);
     let stretched = u + jkr_force(X_MIN, k.f_c) * (d - D_MIN) * k.delta0;
-    F4(std::array::from_fn(|l| {
+    F4::<S>::new(std::array::from_fn(|l| {
         if d.0[l] < D_MIN {
             stretched.0[l]
         } else {
             u.0[l]
         }
     }))
+}
+
+/// The JKR potential's shape in x, `jkr_potential_at_overlap_with`'s closure. A function, not
+/// a closure: a closure is compiled without the caller's `#[target_feature]`, so the AVX
+/// instructions in it would become calls.
+#[inline(always)]
+fn jkr_shape_lanes<S: Isa>(x: F4<S>) -> F4<S> {
+    let x2 = x * x;
+    4.0 * (1.2 * x2 * x2 * x - 2.0 * x2 * x * x.sqrt() + 0.5 * x2)
 }

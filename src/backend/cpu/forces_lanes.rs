@@ -10,7 +10,9 @@
 //! need from zero to many iterations.
 
 use super::forces::PairResult;
-use super::lanes::{F4, M4, V4};
+#[cfg(target_arch = "x86_64")]
+use super::lanes::Avx2;
+use super::lanes::{Isa, Portable, F4, M4, V4};
 use super::prefetch::{prefetch_one, prefetch_partners_ahead, prefetch_row_ahead};
 use crate::model::damping::Damping;
 use crate::model::normal::{D_MIN, X_MIN, Y_MIN};
@@ -134,7 +136,7 @@ pub fn chunk_forces(
 ) {
     match lanes {
         ContactLanes::Scalar => chunk_scalar(law, m, chunk, results),
-        ContactLanes::Portable => chunk_in_lanes(law, m, chunk, results),
+        ContactLanes::Portable => chunk_in_lanes::<Portable>(law, m, chunk, results),
         #[cfg(target_arch = "x86_64")]
         ContactLanes::Avx2 => {
             assert!(std::arch::is_x86_feature_detected!("avx2"));
@@ -142,7 +144,7 @@ pub fn chunk_forces(
             unsafe { chunk_avx2(law, m, chunk, results) }
         }
         #[cfg(not(target_arch = "x86_64"))]
-        ContactLanes::Avx2 => chunk_in_lanes(law, m, chunk, results),
+        ContactLanes::Avx2 => chunk_in_lanes::<Portable>(law, m, chunk, results),
     }
 }
 
@@ -178,12 +180,17 @@ unsafe fn chunk_avx2(
     chunk: ForceChunk,
     results: &mut [PairResult],
 ) {
-    chunk_in_lanes(law, m, chunk, results)
+    chunk_in_lanes::<Avx2>(law, m, chunk, results)
 }
 
 /// The chunk's contacts in batches of four; a last batch of fewer goes one at a time.
 #[inline(always)]
-fn chunk_in_lanes(law: &ContactLaw, m: &Monomers, chunk: ForceChunk, results: &mut [PairResult]) {
+fn chunk_in_lanes<S: Isa>(
+    law: &ContactLaw,
+    m: &Monomers,
+    chunk: ForceChunk,
+    results: &mut [PairResult],
+) {
     let rows = chunk.rows;
     let mut owner = [0usize; 4];
     let mut slot = [0usize; 4];
@@ -197,7 +204,7 @@ fn chunk_in_lanes(law: &ContactLaw, m: &Monomers, chunk: ForceChunk, results: &m
             filled += 1;
             if filled == 4 {
                 let batch = &mut results[written..written + 4];
-                four_results(law, m, rows, &owner, &slot, batch);
+                four_results::<S>(law, m, rows, &owner, &slot, batch);
                 written += 4;
                 filled = 0;
             }
@@ -209,7 +216,7 @@ fn chunk_in_lanes(law: &ContactLaw, m: &Monomers, chunk: ForceChunk, results: &m
 }
 
 #[inline(always)]
-fn four_results(
+fn four_results<S: Isa>(
     law: &ContactLaw,
     m: &Monomers,
     rows: &[PairContact],
@@ -225,13 +232,13 @@ fn four_results(
         &rows[slot[3]],
     ];
     let partner = |l: usize| c[l].partner as usize;
-    let x1 = V4::gather(|l| p[owner[l]]);
-    let x2 = V4::gather(|l| p[partner(l)]);
-    let v1 = V4::gather(|l| v[owner[l]]);
-    let v2 = V4::gather(|l| v[partner(l)]);
-    let n1 = V4::gather(|l| c[l].n1);
-    let n2 = V4::gather(|l| c[l].n2);
-    let twist = F4([c[0].twist, c[1].twist, c[2].twist, c[3].twist]);
+    let x1 = V4::<S>::gather(|l| p[owner[l]]);
+    let x2 = V4::<S>::gather(|l| p[partner(l)]);
+    let v1 = V4::<S>::gather(|l| v[owner[l]]);
+    let v2 = V4::<S>::gather(|l| v[partner(l)]);
+    let n1 = V4::<S>::gather(|l| c[l].n1);
+    let n2 = V4::<S>::gather(|l| c[l].n2);
+    let twist = F4::<S>::new([c[0].twist, c[1].twist, c[2].twist, c[3].twist]);
     let g = pair_geometry_lanes(law, x1, x2, v1, v2);
     let (force, damping, torque_owner, torque_partner) =
         pair_interaction_at_lanes(law, &g, n1, n2, twist);
@@ -246,19 +253,25 @@ fn four_results(
 }
 
 /// `PairGeometry` of four contacts.
-pub struct PairGeometryLanes {
-    pub distance: F4,
-    pub overlap_ratio: F4,
-    pub radius_ratio: F4,
-    pub nc: V4,
-    pub normal: V4,
-    pub damping: V4,
-    pub v_rel: V4,
+pub struct PairGeometryLanes<S: Isa> {
+    pub distance: F4<S>,
+    pub overlap_ratio: F4<S>,
+    pub radius_ratio: F4<S>,
+    pub nc: V4<S>,
+    pub normal: V4<S>,
+    pub damping: V4<S>,
+    pub v_rel: V4<S>,
 }
 
 /// Lane twin of `pair_geometry`.
 #[inline(always)]
-pub fn pair_geometry_lanes(law: &ContactLaw, x1: V4, x2: V4, v1: V4, v2: V4) -> PairGeometryLanes {
+pub fn pair_geometry_lanes<S: Isa>(
+    law: &ContactLaw,
+    x1: V4<S>,
+    x2: V4<S>,
+    v1: V4<S>,
+    v2: V4<S>,
+) -> PairGeometryLanes<S> {
     let k = &law.pair;
     let r = law.radius;
     let d = x1 - x2;
@@ -283,10 +296,10 @@ pub fn pair_geometry_lanes(law: &ContactLaw, x1: V4, x2: V4, v1: V4, v2: V4) -> 
 
 /// Lane twin of `damping_coefficient` (the damping law is the same for every lane).
 #[inline(always)]
-fn damping_coefficient_lanes(law: &ContactLaw, a: F4) -> F4 {
+fn damping_coefficient_lanes<S: Isa>(law: &ContactLaw, a: F4<S>) -> F4<S> {
     match law.damping {
-        Damping::None => F4::splat(0.0),
-        Damping::Viscous { kappa } => F4::splat(kappa),
+        Damping::None => F4::<S>::splat(0.0),
+        Damping::Viscous { kappa } => F4::<S>::splat(kappa),
         Damping::Viscoelastic { t_vis } => {
             2.0 * law.e_star * t_vis * a / (law.poisson * law.poisson)
         }
@@ -295,19 +308,19 @@ fn damping_coefficient_lanes(law: &ContactLaw, a: F4) -> F4 {
 
 /// Lane twin of `jkr_force`.
 #[inline(always)]
-fn jkr_force_lanes(x: F4, f_c: f64) -> F4 {
+fn jkr_force_lanes<S: Isa>(x: F4<S>, f_c: f64) -> F4<S> {
     4.0 * f_c * (x * x * x - x * x.sqrt())
 }
 
 /// Lane twin of `pair_interaction_at`: (force on 1, damping part, torque on 1, torque on 2).
 #[inline(always)]
-pub fn pair_interaction_at_lanes(
+pub fn pair_interaction_at_lanes<S: Isa>(
     law: &ContactLaw,
-    g: &PairGeometryLanes,
-    n1: V4,
-    n2: V4,
-    twist: F4,
-) -> (V4, V4, V4, V4) {
+    g: &PairGeometryLanes<S>,
+    n1: V4<S>,
+    n2: V4<S>,
+    twist: F4<S>,
+) -> (V4<S>, V4<S>, V4<S>, V4<S>) {
     let k = &law.pair;
     let r = law.radius;
     let nc = g.nc;
@@ -332,10 +345,10 @@ pub fn pair_interaction_at_lanes(
 /// Lane twin of `jkr_contact_radius_ratio`: Newton's method on every lane at once, each lane
 /// stopping where the scalar loop would (its value then held by the mask).
 #[inline(always)]
-pub fn jkr_contact_radius_ratio_lanes(d: F4) -> F4 {
-    let below = d.le(F4::splat(D_MIN));
+pub fn jkr_contact_radius_ratio_lanes<S: Isa>(d: F4<S>) -> F4<S> {
+    let below = d.le(F4::<S>::splat(D_MIN));
     let mut y = newton_start_lanes(d);
-    let mut active = M4([true; 4]).and_not(below);
+    let mut active = M4::ALL.and_not(below);
     for _ in 0..100 {
         if !active.any() {
             break;
@@ -349,15 +362,15 @@ pub fn jkr_contact_radius_ratio_lanes(d: F4) -> F4 {
         y = moving.select(next, y);
         active = moving.and_not(step.le(1e-15 * y));
     }
-    below.select(F4::splat(X_MIN), y * y)
+    below.select(F4::<S>::splat(X_MIN), y * y)
 }
 
 /// Lane twin of `newton_start`: both branches, each lane taking its own.
 #[inline(always)]
-fn newton_start_lanes(d: F4) -> F4 {
+fn newton_start_lanes<S: Isa>(d: F4<S>) -> F4<S> {
     let far = (d + 2.0).sqrt().sqrt().max(1.0);
     let above = 1.0 + ((100.0 + 72.0 * (d - 1.0)).sqrt() - 10.0) / 36.0;
     let beneath = 1.0 + (d - 1.0) / 10.0;
-    let near = d.ge(F4::splat(1.0)).select(above, beneath);
+    let near = d.ge(F4::<S>::splat(1.0)).select(above, beneath);
     far.min(near)
 }

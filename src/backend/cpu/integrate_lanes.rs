@@ -8,7 +8,9 @@
 
 use super::forces_lanes::{ContactLanes, OwnerChunk};
 use super::integrate::integrate_pair_contact;
-use super::lanes::{F4, V4};
+#[cfg(target_arch = "x86_64")]
+use super::lanes::Avx2;
+use super::lanes::{Isa, Portable, F4, V4};
 use crate::backend::script::{PAIR_TEST_BEYOND, PAIR_TEST_BREAKS};
 use crate::model::ContactLaw;
 use crate::state::{Monomers, PairContact};
@@ -28,7 +30,7 @@ pub fn chunk_pairs(
 ) {
     match lanes {
         ContactLanes::Scalar => chunk_scalar(law, dt, m, chunk, tests),
-        ContactLanes::Portable => chunk_in_lanes(law, dt, m, chunk, tests),
+        ContactLanes::Portable => chunk_in_lanes::<Portable>(law, dt, m, chunk, tests),
         #[cfg(target_arch = "x86_64")]
         ContactLanes::Avx2 => {
             assert!(std::arch::is_x86_feature_detected!("avx2"));
@@ -36,7 +38,7 @@ pub fn chunk_pairs(
             unsafe { chunk_avx2(law, dt, m, chunk, tests) }
         }
         #[cfg(not(target_arch = "x86_64"))]
-        ContactLanes::Avx2 => chunk_in_lanes(law, dt, m, chunk, tests),
+        ContactLanes::Avx2 => chunk_in_lanes::<Portable>(law, dt, m, chunk, tests),
     }
 }
 
@@ -54,13 +56,19 @@ fn chunk_scalar(law: &ContactLaw, dt: f64, m: &Monomers, chunk: PairChunk, tests
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn chunk_avx2(law: &ContactLaw, dt: f64, m: &Monomers, chunk: PairChunk, tests: &mut [u32]) {
-    chunk_in_lanes(law, dt, m, chunk, tests)
+    chunk_in_lanes::<Avx2>(law, dt, m, chunk, tests)
 }
 
 /// The chunk's contacts in batches of four across owners; a last batch of fewer goes one at a
 /// time.
 #[inline(always)]
-fn chunk_in_lanes(law: &ContactLaw, dt: f64, m: &Monomers, chunk: PairChunk, tests: &mut [u32]) {
+fn chunk_in_lanes<S: Isa>(
+    law: &ContactLaw,
+    dt: f64,
+    m: &Monomers,
+    chunk: PairChunk,
+    tests: &mut [u32],
+) {
     let mut owner = [0usize; 4];
     let mut slot = [0usize; 4];
     let mut filled = 0;
@@ -72,7 +80,7 @@ fn chunk_in_lanes(law: &ContactLaw, dt: f64, m: &Monomers, chunk: PairChunk, tes
             slot[filled] = s;
             filled += 1;
             if filled == 4 {
-                let bits = four_pairs(law, dt, m, chunk.rows, chunk.first, &owner, &slot);
+                let bits = four_pairs::<S>(law, dt, m, chunk.rows, chunk.first, &owner, &slot);
                 for l in 0..4 {
                     tests[owner[l]] |= bits[l];
                 }
@@ -88,7 +96,7 @@ fn chunk_in_lanes(law: &ContactLaw, dt: f64, m: &Monomers, chunk: PairChunk, tes
 
 /// Four contacts (owners `first + owner[l]`, slots `slot[l]`) advanced in place; their tests.
 #[inline(always)]
-fn four_pairs(
+fn four_pairs<S: Isa>(
     law: &ContactLaw,
     dt: f64,
     m: &Monomers,
@@ -100,12 +108,21 @@ fn four_pairs(
     let (pos, vel, omega) = (&m.position, &m.velocity, &m.angular_velocity);
     let i = |l: usize| first + owner[l];
     let j = |l: usize| rows[slot[l]].partner as usize;
-    let (x1, x2) = (V4::gather(|l| pos[i(l)]), V4::gather(|l| pos[j(l)]));
-    let (v1, v2) = (V4::gather(|l| vel[i(l)]), V4::gather(|l| vel[j(l)]));
-    let (w1, w2) = (V4::gather(|l| omega[i(l)]), V4::gather(|l| omega[j(l)]));
-    let n1 = V4::gather(|l| rows[slot[l]].n1);
-    let n2 = V4::gather(|l| rows[slot[l]].n2);
-    let twist = F4(slot.map(|s| rows[s].twist));
+    let (x1, x2) = (
+        V4::<S>::gather(|l| pos[i(l)]),
+        V4::<S>::gather(|l| pos[j(l)]),
+    );
+    let (v1, v2) = (
+        V4::<S>::gather(|l| vel[i(l)]),
+        V4::<S>::gather(|l| vel[j(l)]),
+    );
+    let (w1, w2) = (
+        V4::<S>::gather(|l| omega[i(l)]),
+        V4::<S>::gather(|l| omega[j(l)]),
+    );
+    let n1 = V4::<S>::gather(|l| rows[slot[l]].n1);
+    let n2 = V4::<S>::gather(|l| rows[slot[l]].n2);
+    let twist = F4::<S>::new(slot.map(|s| rows[s].twist));
     // integrate_pair_contact, twist_increment
     let nc_mid = ((x1 - x2) + (v1 - v2).times(0.5 * dt)).normalize();
     let twist = twist + (w1 - w2).dot(nc_mid) * dt;
@@ -124,13 +141,13 @@ fn four_pairs(
 /// Lane twin of `test_pair_contact` and `beyond_limits`: the lengths in lanes, the
 /// comparisons lane by lane as the scalar code makes them.
 #[inline(always)]
-fn test_pair_contact_lanes(
+fn test_pair_contact_lanes<S: Isa>(
     law: &ContactLaw,
-    x1: V4,
-    x2: V4,
-    n1: V4,
-    n2: V4,
-    twist: F4,
+    x1: V4<S>,
+    x2: V4<S>,
+    n1: V4<S>,
+    n2: V4<S>,
+    twist: F4<S>,
 ) -> [u32; 4] {
     let k = &law.pair;
     let r = law.radius;
@@ -155,7 +172,7 @@ fn test_pair_contact_lanes(
 
 /// Lane twin of `rotate_pointer`: the same polynomials in θ², the same grouping.
 #[inline(always)]
-pub fn rotate_pointer_lanes(n: V4, w: V4) -> V4 {
+pub fn rotate_pointer_lanes<S: Isa>(n: V4<S>, w: V4<S>) -> V4<S> {
     let t2 = w.dot(w);
     let sinc = 1.0
         - t2 * 0.16666666666666666
@@ -173,5 +190,5 @@ pub fn rotate_pointer_lanes(n: V4, w: V4) -> V4 {
                         * (1.0 - t2 * 0.017857142857142856 * (1.0 - t2 * 0.011111111111111112))));
     let cos = 1.0 - t2 * cosc;
     let rotated = n.scale(cos) + w.cross(n).scale(sinc) + w.scale(w.dot(n) * cosc);
-    V4::select(t2.eq(F4::splat(0.0)), n, rotated.normalize())
+    V4::select(t2.eq(F4::<S>::splat(0.0)), n, rotated.normalize())
 }
