@@ -262,6 +262,40 @@ mod tests {
     }
 
     #[test]
+    fn compressed_samples_get_no_whole_runs() {
+        let dir = std::env::temp_dir().join(format!("dustdem-whole-run-{}", std::process::id()));
+        let options = crate::bench::Options {
+            lammps: true,
+            rounds: 1,
+            out: dir.clone(),
+            dustdem_exe: Some("/nonexistent/dustdem".into()),
+            ..Default::default()
+        };
+        let sides = crate::bench::measure::sides(&options);
+        let result = crate::bench::SideResult {
+            steps: 100,
+            ..Default::default()
+        };
+        let results = vec![result; sides.len()];
+        let lammps = Ok(Lammps {
+            lmp: "/nonexistent/lmp".into(),
+            mpirun: None,
+        });
+        let quiet = |_: &str| {};
+        let run = |fresh| {
+            for_size(
+                200, fresh, &options, &sides, &results, &lammps, 10, &dir, &quiet,
+            )
+        };
+        assert_eq!(run(false), None);
+        // A fresh sample's whole runs are tried (and stop here: no such executable).
+        let fresh = run(true).expect("whole runs on a fresh sample");
+        assert_eq!(fresh.steps, 200);
+        assert!(fresh.skipped.unwrap().contains("/nonexistent/dustdem"));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
     fn the_config_is_the_benchmark_compression_with_a_step_limit() {
         let config = crate::config::Config::parse(&config_text(300, 1200), "test").unwrap();
         let bench = super::super::benchmark_config(300).unwrap();
