@@ -76,7 +76,8 @@ fn rate_cell(r: &SideResult) -> String {
     }
 }
 
-fn ratio_cell(values: &[f64]) -> String {
+/// `median (min–max)` of per-round ratios, `–` without any.
+pub(super) fn ratio_cell(values: &[f64]) -> String {
     match (median(values), range(values)) {
         (Some(m), Some((lo, hi))) => format!("{m:.2} ({lo:.2}–{hi:.2})"),
         _ => "–".into(),

@@ -190,7 +190,7 @@ fn run_dustdem(exe: &Path, plan: &Plan) -> Result<f64, String> {
 
 /// bench.md's section on the whole runs; empty where none ran.
 pub fn markdown(sizes: &[super::SizeResult]) -> String {
-    use super::stats::{median, range, round_ratios};
+    use super::stats::{median, round_ratios};
     let runs: Vec<(usize, &WholeRun)> = sizes
         .iter()
         .filter_map(|s| s.whole_run.as_ref().map(|w| (s.n, w)))
@@ -212,9 +212,9 @@ pub fn markdown(sizes: &[super::SizeResult]) -> String {
     for (n, w) in runs {
         let rate = |r: &[f64]| median(r).map_or("–".into(), |v| format!("{v:.3e}"));
         let ratios = round_ratios(&w.dustdem, &w.lammps);
-        let ratio = match (median(&ratios), range(&ratios)) {
-            (Some(m), Some((lo, hi))) => format!("{m:.2} ({lo:.2}–{hi:.2})"),
-            _ => w.skipped.clone().unwrap_or_else(|| "–".into()),
+        let ratio = match (&w.skipped, ratios.is_empty()) {
+            (Some(why), true) => why.clone(),
+            _ => super::table::ratio_cell(&ratios),
         };
         s.push_str(&format!(
             "| {n} | {} | {} | {} | {ratio} |\n",
