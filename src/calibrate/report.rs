@@ -284,6 +284,7 @@ pub fn markdown(cal: &Calibration, measured: &str, config_path: &Path) -> String
             s.push_str("The corrected config uses the nominally best of the tied effects; treat it as one of several equally good explanations.\n\n");
         }
     }
+    revisits_section(&mut s, cal);
     s.push_str("## Result\n\n");
     let named = cal.named();
     if cal.applied.is_empty() {
@@ -420,12 +421,16 @@ fn search_text(cal: &Calibration) -> String {
         )
     };
     format!(
-        "{screen}; effects that cannot come near the best {}; {} compressions{} and {} \
+        "{screen}; effects that cannot come near the best {}{}; {} compressions{} and {} \
          sticking runs requested",
         if cal.settings.prune {
             "dropped after the screen"
         } else {
             "kept"
+        },
+        match cal.settings.revisit {
+            true => "; applied effects revisited with the others in",
+            false => "",
         },
         cal.cost.compressions,
         match cal.cost.screen_size_compressions {

@@ -4,7 +4,7 @@
 use super::attribution::{DetectionLimit, EffectFit, PREDICTION_LIMIT};
 use super::effects::Effect;
 use super::gap::{CurveGap, Gap};
-use super::workflow::{Calibration, Round};
+use super::workflow::{describe_decision, Calibration, Round};
 use std::fmt::Write as _;
 
 pub(super) fn fmt_factor(f: f64) -> String {
@@ -271,4 +271,63 @@ pub(super) fn round_base(cal: &Calibration, round: usize) -> crate::config::Conf
         c = effect.apply(&c, *factor);
     }
     c
+}
+
+/// The revisits (`--revisit`): each applied effect searched for again with the others in.
+pub(super) fn revisits_section(s: &mut String, cal: &Calibration) {
+    if cal.revisits.is_empty() {
+        return;
+    }
+    s.push_str(
+        "## Revisits\n\nEach round fitted its effect with the later ones missing. Each applied \
+         effect but the last was searched for again (a full round) on the base model with every \
+         other applied effect in; a correction that fits better than the model as it stood \
+         takes its place (then the last effect is searched for again too).\n\n\
+         | revisited | with | decision | best fits: factor (interval), chi2 | chi2 re-simulated | chi2 before | outcome |\n\
+         |---|---|---|---|---|---|---|\n",
+    );
+    for r in &cal.revisits {
+        let (effect, factor) = r.was;
+        let others: Vec<String> = cal
+            .applied
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| *k != r.of)
+            .map(|(_, (e, f))| format!("{} x{}", e.name(), fmt_factor(*f)))
+            .collect();
+        let fits: Vec<String> = r
+            .round
+            .fits
+            .iter()
+            .take(3)
+            .map(|f| {
+                format!(
+                    "{} x{} ({} – {}), {:.2}",
+                    f.effect.name(),
+                    fmt_factor(f.factor),
+                    fmt_factor(f.interval.0),
+                    fmt_factor(f.interval.1),
+                    f.chi2
+                )
+            })
+            .collect();
+        let after = r.round.gap_after.as_ref().map(|g| format!("{:.2}", g.chi2));
+        let outcome = match (r.replaced, r.round.applied) {
+            (true, Some((e, f))) => format!("replaced by {} x{}", e.name(), fmt_factor(f)),
+            _ => "kept".to_string(),
+        };
+        let _ = writeln!(
+            s,
+            "| {} x{} | {} | {} | {} | {} | {:.2} | {} |",
+            effect.name(),
+            fmt_factor(factor),
+            others.join(", "),
+            describe_decision(&r.round.decision),
+            fits.join("; "),
+            after.unwrap_or_else(|| "–".into()),
+            r.chi2_before,
+            outcome
+        );
+    }
+    s.push('\n');
 }

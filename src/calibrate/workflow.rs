@@ -47,6 +47,9 @@ pub struct Settings {
     /// (each doubles the distance of that end from the factor 1 in ln factor).
     pub widenings: usize,
     pub effects: Vec<Effect>,
+    /// After the rounds, search again for each applied effect with the later ones in
+    /// ([`revisit`]).
+    pub revisit: bool,
 }
 
 impl Default for Settings {
@@ -64,6 +67,7 @@ impl Default for Settings {
             refine_tolerance: 0.05,
             widenings: 4,
             effects: Effect::ALL.to_vec(),
+            revisit: false,
         }
     }
 }
@@ -103,6 +107,8 @@ pub struct Calibration {
     /// Effects applied, in order, with their factors.
     pub applied: Vec<(Effect, f64)>,
     pub rounds: Vec<Round>,
+    /// The earlier rounds searched again with the later effects in (`Settings::revisit`).
+    pub revisits: Vec<Revisit>,
     pub baseline: Vec<Prediction>,
     pub final_predictions: Vec<Prediction>,
     pub runs: usize,
@@ -119,10 +125,13 @@ impl Calibration {
         gap(&self.measured, &self.final_predictions)
     }
 
-    /// The effects named (clearly ahead and predicting every curve), round by round.
+    /// The effects named (clearly ahead and predicting every curve), round by round, then
+    /// those a revisit named for the place it revisited.
     pub fn named(&self) -> Vec<Effect> {
+        let standing = |r: &&Revisit| r.round.decision.chosen() == Some(self.applied[r.of].0);
         self.rounds
             .iter()
+            .chain(self.revisits.iter().filter(standing).map(|r| &r.round))
             .filter_map(|r| match (&r.decision, r.rejected) {
                 (Decision::Named(e), false) => Some(*e),
                 _ => None,
@@ -141,10 +150,6 @@ pub fn calibrate(
 ) -> Result<Calibration, String> {
     check_settings(settings, base)?;
     let mut predictor = Predictor::new(measured, cache, settings, progress);
-    let has_omni = measured
-        .compression
-        .iter()
-        .any(|c| c.geometry == Geometry::Omni);
     let mut current = base.clone();
     let mut current_predictions = predictor
         .predict(std::slice::from_ref(&current), "baseline")?
@@ -153,153 +158,37 @@ pub fn calibrate(
     let mut applied: Vec<(Effect, f64)> = Vec::new();
     let mut rounds = Vec::new();
     for round in 1..=settings.max_rounds.max(1) {
-        let before = gap(measured, &current_predictions);
-        progress(&format!(
-            "round {round}: chi2 = {:.2} over {} curve(s), noise threshold {:.2}",
-            before.chi2,
-            before.curves.len(),
-            before.threshold
-        ));
-        let effects: Vec<Effect> = settings
-            .effects
-            .iter()
-            .copied()
-            .filter(|e| {
-                e.applies(&current, has_omni)
-                    && !applied.iter().any(|(a, _)| a.family() == e.family())
-            })
-            .collect();
-        // The screen runs even when the gap is within noise: it gives the detection limits,
-        // which are then all the round gives, so it runs at the target size.
         let now = Current {
             config: &current,
             predictions: &current_predictions,
         };
-        // A sticking velocity does not depend on the sample: nothing to screen smaller.
-        let smaller = (1..current.sample.monomers).contains(&settings.screen_monomers)
-            && !measured.compression.is_empty();
-        let (mut grids, small) = match !before.within_noise() && smaller {
-            true => screen_by_size(&mut predictor, &now, &effects, round)?,
-            false => (screen(&mut predictor, &now, &effects, round)?, Vec::new()),
-        };
-        report_ranking(
-            progress,
-            &format!("round {round}: screen ranking"),
-            measured,
-            &grids,
-        );
-        let detection: Vec<DetectionLimit> = grids
-            .iter()
-            .chain(&small)
-            .filter_map(|g| detection_limit(measured, g))
-            .collect();
-        let size_screened = (!small.is_empty()).then(|| {
-            let dropped: Vec<Effect> = small.iter().map(|g| g.effect).collect();
-            progress(&format!(
-                "round {round}: dropped by the {}-monomer screen: {}",
-                settings.screen_monomers,
-                names(&dropped)
-            ));
-            (settings.screen_monomers, dropped)
-        });
-        if before.within_noise() {
-            progress(&format!(
-                "round {round}: the gap is within sample-to-sample and measurement noise"
-            ));
-            for d in &detection {
-                progress(&format!("round {round}: {}", describe_limit(d)));
-            }
-            rounds.push(Round {
-                gap_before: before,
-                detection,
-                size_screened: None,
-                single: None,
-                outside: None,
-                pruned: Vec::new(),
-                fits: Vec::new(),
-                decision: Decision::WithinNoise,
-                applied: None,
-                gap_after: None,
-                rejected: false,
-            });
-            break;
-        }
-        let dropped = if settings.prune {
-            pruned(measured, &grids, &current_predictions)
-        } else {
-            Vec::new()
-        };
-        if !dropped.is_empty() {
-            progress(&format!(
-                "round {round}: not widened or refined (cannot come within chi2 + 2 of the \
-                 best): {}",
-                dropped
-                    .iter()
-                    .map(|e| e.name())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ));
-        }
-        refine(&mut predictor, &now, &mut grids, &dropped, round)?;
-        let (fits, decision, polished) =
-            polish_leaders(&mut predictor, &now, &mut grids, &before, round)?;
-        let single = single_observable(measured, &before, &grids);
-        let outside = outside_library(&before, &fits, &decision, !measured.compression.is_empty());
-        report_fits(progress, round, &fits, &decision);
-        let kept = decision
-            .chosen()
-            .and_then(|e| polished.into_iter().find(|p| p.0 == e));
-        let Some((effect, factor, after_predictions)) = kept else {
-            rounds.push(Round {
-                gap_before: before,
-                detection,
-                size_screened: size_screened.clone(),
-                single,
-                outside,
-                pruned: dropped,
-                fits,
-                decision,
-                applied: None,
-                gap_after: None,
-                rejected: false,
-            });
+        let (r, kept) = search_round(&mut predictor, &now, &applied, round)?;
+        let undetermined = matches!(r.decision, Decision::Undetermined(_));
+        let (applied_now, within) = (r.applied, r.gap_after.as_ref().map(Gap::within_noise));
+        rounds.push(r);
+        let (Some((effect, factor)), Some(after)) = (applied_now, kept) else {
             break;
         };
-        let corrected = effect.apply(&current, factor);
-        let after = gap(measured, &after_predictions);
-        let rejected = after.chi2 >= before.chi2;
-        progress(&format!(
-            "round {round}: re-simulated with {} x{:.3}: chi2 {:.2} -> {:.2}{}",
-            effect.name(),
-            factor,
-            before.chi2,
-            after.chi2,
-            if rejected { " (not kept)" } else { "" }
-        ));
-        let undetermined = matches!(decision, Decision::Undetermined(_));
-        rounds.push(Round {
-            gap_before: before,
-            detection,
-            size_screened,
-            single,
-            outside,
-            pruned: dropped,
-            fits,
-            decision,
-            applied: Some((effect, factor)),
-            gap_after: Some(after.clone()),
-            rejected,
-        });
-        if rejected {
-            break;
-        }
         applied.push((effect, factor));
-        current = corrected;
-        current_predictions = after_predictions;
+        current = effect.apply(&current, factor);
+        current_predictions = after;
         // With several equally good explanations a further round would build on a guess.
-        if undetermined || after.within_noise() {
+        if undetermined || within == Some(true) {
             break;
         }
+    }
+    let mut revisits = Vec::new();
+    if settings.revisit {
+        let last = (current, current_predictions);
+        let label = rounds.len() + 1;
+        (current, current_predictions) = revisit(
+            &mut predictor,
+            base,
+            &mut applied,
+            last,
+            label,
+            &mut revisits,
+        )?;
     }
     Ok(Calibration {
         measured: measured.clone(),
@@ -308,11 +197,206 @@ pub fn calibrate(
         corrected: current,
         applied,
         rounds,
+        revisits,
         baseline,
         final_predictions: current_predictions,
         runs: predictor.cost.runs(),
         cost: predictor.cost,
     })
+}
+
+/// One round on the model `now`, whose applied effects (`applied`: their families are not
+/// searched again) it builds on: the screen, the fits, the decision, and the chosen effect
+/// re-simulated. Returns the round and, when its correction lowered χ², the corrected
+/// model's predictions.
+fn search_round(
+    predictor: &mut Predictor,
+    now: &Current,
+    applied: &[(Effect, f64)],
+    round: usize,
+) -> Result<(Round, Option<Vec<Prediction>>), String> {
+    let (measured, settings, progress) =
+        (predictor.measured, predictor.settings, predictor.progress);
+    let before = gap(measured, now.predictions);
+    progress(&format!(
+        "round {round}: chi2 = {:.2} over {} curve(s), noise threshold {:.2}",
+        before.chi2,
+        before.curves.len(),
+        before.threshold
+    ));
+    let has_omni = measured
+        .compression
+        .iter()
+        .any(|c| c.geometry == Geometry::Omni);
+    let effects: Vec<Effect> = settings
+        .effects
+        .iter()
+        .copied()
+        .filter(|e| {
+            e.applies(now.config, has_omni)
+                && !applied.iter().any(|(a, _)| a.family() == e.family())
+        })
+        .collect();
+    // The screen runs even when the gap is within noise: it gives the detection limits,
+    // which are then all the round gives, so it runs at the target size.
+    // A sticking velocity does not depend on the sample: nothing to screen smaller.
+    let smaller = (1..now.config.sample.monomers).contains(&settings.screen_monomers)
+        && !measured.compression.is_empty();
+    let (mut grids, small) = match !before.within_noise() && smaller {
+        true => screen_by_size(predictor, now, &effects, round)?,
+        false => (screen(predictor, now, &effects, round)?, Vec::new()),
+    };
+    report_ranking(
+        progress,
+        &format!("round {round}: screen ranking"),
+        measured,
+        &grids,
+    );
+    let detection: Vec<DetectionLimit> = grids
+        .iter()
+        .chain(&small)
+        .filter_map(|g| detection_limit(measured, g))
+        .collect();
+    let size_screened = (!small.is_empty()).then(|| {
+        let dropped: Vec<Effect> = small.iter().map(|g| g.effect).collect();
+        progress(&format!(
+            "round {round}: dropped by the {}-monomer screen: {}",
+            settings.screen_monomers,
+            names(&dropped)
+        ));
+        (settings.screen_monomers, dropped)
+    });
+    let mut r = Round {
+        gap_before: before.clone(),
+        detection,
+        size_screened: None,
+        single: None,
+        outside: None,
+        pruned: Vec::new(),
+        fits: Vec::new(),
+        decision: Decision::WithinNoise,
+        applied: None,
+        gap_after: None,
+        rejected: false,
+    };
+    if before.within_noise() {
+        progress(&format!(
+            "round {round}: the gap is within sample-to-sample and measurement noise"
+        ));
+        for d in &r.detection {
+            progress(&format!("round {round}: {}", describe_limit(d)));
+        }
+        return Ok((r, None));
+    }
+    r.size_screened = size_screened;
+    r.pruned = if settings.prune {
+        pruned(measured, &grids, now.predictions)
+    } else {
+        Vec::new()
+    };
+    if !r.pruned.is_empty() {
+        progress(&format!(
+            "round {round}: not widened or refined (cannot come within chi2 + 2 of the \
+             best): {}",
+            names(&r.pruned)
+        ));
+    }
+    refine(predictor, now, &mut grids, &r.pruned, round)?;
+    let (fits, decision, polished) = polish_leaders(predictor, now, &mut grids, &before, round)?;
+    r.single = single_observable(measured, &before, &grids);
+    r.outside = outside_library(&before, &fits, &decision, !measured.compression.is_empty());
+    report_fits(progress, round, &fits, &decision);
+    let kept = decision
+        .chosen()
+        .and_then(|e| polished.into_iter().find(|p| p.0 == e));
+    (r.fits, r.decision) = (fits, decision);
+    let Some((effect, factor, after_predictions)) = kept else {
+        return Ok((r, None));
+    };
+    let after = gap(measured, &after_predictions);
+    r.rejected = after.chi2 >= before.chi2;
+    progress(&format!(
+        "round {round}: re-simulated with {} x{:.3}: chi2 {:.2} -> {:.2}{}",
+        effect.name(),
+        factor,
+        before.chi2,
+        after.chi2,
+        if r.rejected { " (not kept)" } else { "" }
+    ));
+    (r.applied, r.gap_after) = (Some((effect, factor)), Some(after));
+    Ok(match r.rejected {
+        true => (r, None),
+        false => (r, Some(after_predictions)),
+    })
+}
+
+/// An applied effect searched for again once the effects of the later rounds are in.
+#[derive(Clone, Debug)]
+pub struct Revisit {
+    /// Its place among the applied effects, and what it was before.
+    pub of: usize,
+    pub was: (Effect, f64),
+    /// The round run on the base model with every other applied effect.
+    pub round: Round,
+    /// χ² of the model as it stood when the revisit began.
+    pub chi2_before: f64,
+    /// Its correction fitted the data better than that (lower χ²), so it took the
+    /// revisited effect's place.
+    pub replaced: bool,
+}
+
+/// Rounds add effects one at a time, so an earlier round fits its effect with the later ones
+/// missing and may choose one that absorbs part of them (a damping that also bends the omni
+/// curve that stronger side walls bend). Each applied effect but the last is searched for
+/// again, as a full round on `base` with every other applied effect; its correction replaces
+/// the revisited effect where it lowers χ² of the model as it stands. If one was replaced,
+/// the last effect is then searched for again too. One pass; rounds labelled from `label`.
+fn revisit(
+    predictor: &mut Predictor,
+    base: &Config,
+    applied: &mut [(Effect, f64)],
+    mut current: (Config, Vec<Prediction>),
+    label: usize,
+    revisits: &mut Vec<Revisit>,
+) -> Result<(Config, Vec<Prediction>), String> {
+    let n = applied.len();
+    let mut changed = false;
+    for j in (0..n).take_while(|_| n >= 2) {
+        if j == n - 1 && !changed {
+            break;
+        }
+        let others: Vec<(Effect, f64)> = (0..n).filter(|&k| k != j).map(|k| applied[k]).collect();
+        let config = others
+            .iter()
+            .fold(base.clone(), |c, (e, f)| e.apply(&c, *f));
+        let what = format!("revisit of {}", applied[j].0.name());
+        (predictor.progress)(&format!("round {}: {what}", label + revisits.len()));
+        let predictions = predictor
+            .predict(std::slice::from_ref(&config), &what)?
+            .remove(0);
+        let now = Current {
+            config: &config,
+            predictions: &predictions,
+        };
+        let (round, kept) = search_round(predictor, &now, &others, label + revisits.len())?;
+        let chi2_now = gap(predictor.measured, &current.1).chi2;
+        let better = kept.filter(|after| gap(predictor.measured, after).chi2 < chi2_now);
+        let was = applied[j];
+        let replaced = better.is_some();
+        if let (Some(after), Some((effect, factor))) = (better, round.applied) {
+            applied[j] = (effect, factor);
+            current = (effect.apply(&config, factor), after);
+            changed = true;
+        }
+        revisits.push(Revisit {
+            of: j,
+            was,
+            round,
+            chi2_before: chi2_now,
+            replaced,
+        });
+    }
+    Ok(current)
 }
 
 /// What a planned data set and system size can resolve: the detection limits from the

@@ -115,6 +115,10 @@ pub(super) enum Command {
         /// Effects added one after the other at most.
         #[arg(long, default_value_t = 2)]
         rounds: usize,
+        /// After the rounds, search again for each applied effect but the last with all the
+        /// others in, and let a better fit replace it (then the last one too).
+        #[arg(long)]
+        revisit: bool,
         /// Simulation threads (default: all cores).
         #[arg(long)]
         threads: Option<usize>,
@@ -270,7 +274,7 @@ pub(super) enum Command {
         /// An effect and its factor, e.g. rolling_stiffness=8 (repeatable).
         #[arg(long)]
         effect: Vec<String>,
-        /// Compression curves to write: omni, uni or both.
+        /// Compression curves to write: omni, uni, or both as omni,uni.
         #[arg(long, value_delimiter = ',', default_value = "omni")]
         geometry: Vec<Geometry>,
         /// Leave out the sticking velocity.

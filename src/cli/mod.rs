@@ -72,6 +72,7 @@ pub fn main() -> ExitCode {
             no_prune,
             screen_both_ends,
             rounds,
+            revisit,
             threads,
             plan,
             cache,
@@ -94,6 +95,7 @@ pub fn main() -> ExitCode {
                 prune: !no_prune,
                 both_ends: screen_both_ends,
                 max_rounds: rounds,
+                revisit,
                 ..Settings::default()
             };
             if let Some(t) = threads {
