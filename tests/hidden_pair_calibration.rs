@@ -1,6 +1,6 @@
 //! Two hidden effects of different kinds, each recovered within 25%: surface energy ×2
-//! (a material constant) and side walls ×300 (walls), hidden together in synthetic omni + uni
-//! + sticking data of 27 RBD samples of 120 monomers per curve (docs/calibration/hidden_pair/),
+//! (a material constant) and side walls ×300 (walls), hidden together in synthetic omni, uni
+//! and sticking data of 27 RBD samples of 120 monomers per curve (docs/calibration/hidden_pair/),
 //! calibrated on 27 seeds with a first screen on 60 monomers and `--revisit`. On three samples
 //! per curve (tests/calibrate) the side walls, which only the omni curve carries, come back
 //! only inside their wide interval.

@@ -23,6 +23,7 @@ pub mod outside;
 pub mod predictor;
 pub mod report;
 mod report_tables;
+mod revisit;
 pub mod search;
 pub mod simulate;
 pub mod slurm;

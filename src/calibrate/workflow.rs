@@ -7,10 +7,13 @@ use super::attribution::{detection_limit, Decision, DetectionLimit, EffectFit, S
 pub use super::detection::limit_text;
 use super::effects::Effect;
 use super::gap::{gap, Gap, Prediction};
+use super::grid::Grid;
 use super::leaders::polish_leaders;
 use super::measured::{Geometry, MeasuredSet};
 use super::outside::{outside_library, single_observable, OutsideLibrary};
 use super::predictor::{Cost, Predictor};
+use super::revisit::revisit;
+pub use super::revisit::Revisit;
 use super::search::{pruned, refine, report_ranking, screen, screen_by_size, Current};
 use super::simulate::RunCache;
 use crate::config::Config;
@@ -209,7 +212,7 @@ pub fn calibrate(
 /// searched again) it builds on: the screen, the fits, the decision, and the chosen effect
 /// re-simulated. Returns the round and, when its correction lowered χ², the corrected
 /// model's predictions.
-fn search_round(
+pub(super) fn search_round(
     predictor: &mut Predictor,
     now: &Current,
     applied: &[(Effect, f64)],
@@ -224,48 +227,8 @@ fn search_round(
         before.curves.len(),
         before.threshold
     ));
-    let has_omni = measured
-        .compression
-        .iter()
-        .any(|c| c.geometry == Geometry::Omni);
-    let effects: Vec<Effect> = settings
-        .effects
-        .iter()
-        .copied()
-        .filter(|e| {
-            e.applies(now.config, has_omni)
-                && !applied.iter().any(|(a, _)| a.family() == e.family())
-        })
-        .collect();
-    // The screen runs even when the gap is within noise: it gives the detection limits,
-    // which are then all the round gives, so it runs at the target size.
-    // A sticking velocity does not depend on the sample: nothing to screen smaller.
-    let smaller = (1..now.config.sample.monomers).contains(&settings.screen_monomers)
-        && !measured.compression.is_empty();
-    let (mut grids, small) = match !before.within_noise() && smaller {
-        true => screen_by_size(predictor, now, &effects, round)?,
-        false => (screen(predictor, now, &effects, round)?, Vec::new()),
-    };
-    report_ranking(
-        progress,
-        &format!("round {round}: screen ranking"),
-        measured,
-        &grids,
-    );
-    let detection: Vec<DetectionLimit> = grids
-        .iter()
-        .chain(&small)
-        .filter_map(|g| detection_limit(measured, g))
-        .collect();
-    let size_screened = (!small.is_empty()).then(|| {
-        let dropped: Vec<Effect> = small.iter().map(|g| g.effect).collect();
-        progress(&format!(
-            "round {round}: dropped by the {}-monomer screen: {}",
-            settings.screen_monomers,
-            names(&dropped)
-        ));
-        (settings.screen_monomers, dropped)
-    });
+    let (mut grids, detection, size_screened) =
+        screen_round(predictor, now, applied, &before, round)?;
     let mut r = Round {
         gap_before: before.clone(),
         detection,
@@ -330,73 +293,63 @@ fn search_round(
     })
 }
 
-/// An applied effect searched for again once the effects of the later rounds are in.
-#[derive(Clone, Debug)]
-pub struct Revisit {
-    /// Its place among the applied effects, and what it was before.
-    pub of: usize,
-    pub was: (Effect, f64),
-    /// The round run on the base model with every other applied effect.
-    pub round: Round,
-    /// χ² of the model as it stood when the revisit began.
-    pub chi2_before: f64,
-    /// Its correction fitted the data better than that (lower χ²), so it took the
-    /// revisited effect's place.
-    pub replaced: bool,
-}
-
-/// Rounds add effects one at a time, so an earlier round fits its effect with the later ones
-/// missing and may choose one that absorbs part of them (a damping that also bends the omni
-/// curve that stronger side walls bend). Each applied effect but the last is searched for
-/// again, as a full round on `base` with every other applied effect; its correction replaces
-/// the revisited effect where it lowers χ² of the model as it stands. If one was replaced,
-/// the last effect is then searched for again too. One pass; rounds labelled from `label`.
-fn revisit(
+/// A round's screen: every effect not of an applied effect's family, on a smaller sample
+/// first where asked (and the gap is beyond noise), with the detection limits it gives.
+/// Returns the grids screened at the target size, the limits, and what the smaller screen
+/// dropped.
+#[allow(clippy::type_complexity)]
+fn screen_round(
     predictor: &mut Predictor,
-    base: &Config,
-    applied: &mut [(Effect, f64)],
-    mut current: (Config, Vec<Prediction>),
-    label: usize,
-    revisits: &mut Vec<Revisit>,
-) -> Result<(Config, Vec<Prediction>), String> {
-    let n = applied.len();
-    let mut changed = false;
-    for j in (0..n).take_while(|_| n >= 2) {
-        if j == n - 1 && !changed {
-            break;
-        }
-        let others: Vec<(Effect, f64)> = (0..n).filter(|&k| k != j).map(|k| applied[k]).collect();
-        let config = others
-            .iter()
-            .fold(base.clone(), |c, (e, f)| e.apply(&c, *f));
-        let what = format!("revisit of {}", applied[j].0.name());
-        (predictor.progress)(&format!("round {}: {what}", label + revisits.len()));
-        let predictions = predictor
-            .predict(std::slice::from_ref(&config), &what)?
-            .remove(0);
-        let now = Current {
-            config: &config,
-            predictions: &predictions,
-        };
-        let (round, kept) = search_round(predictor, &now, &others, label + revisits.len())?;
-        let chi2_now = gap(predictor.measured, &current.1).chi2;
-        let better = kept.filter(|after| gap(predictor.measured, after).chi2 < chi2_now);
-        let was = applied[j];
-        let replaced = better.is_some();
-        if let (Some(after), Some((effect, factor))) = (better, round.applied) {
-            applied[j] = (effect, factor);
-            current = (effect.apply(&config, factor), after);
-            changed = true;
-        }
-        revisits.push(Revisit {
-            of: j,
-            was,
-            round,
-            chi2_before: chi2_now,
-            replaced,
-        });
-    }
-    Ok(current)
+    now: &Current,
+    applied: &[(Effect, f64)],
+    before: &Gap,
+    round: usize,
+) -> Result<(Vec<Grid>, Vec<DetectionLimit>, Option<(usize, Vec<Effect>)>), String> {
+    let (measured, settings, progress) =
+        (predictor.measured, predictor.settings, predictor.progress);
+    let has_omni = measured
+        .compression
+        .iter()
+        .any(|c| c.geometry == Geometry::Omni);
+    let effects: Vec<Effect> = settings
+        .effects
+        .iter()
+        .copied()
+        .filter(|e| {
+            e.applies(now.config, has_omni)
+                && !applied.iter().any(|(a, _)| a.family() == e.family())
+        })
+        .collect();
+    // The screen runs even when the gap is within noise: it gives the detection limits,
+    // which are then all the round gives, so it runs at the target size.
+    // A sticking velocity does not depend on the sample: nothing to screen smaller.
+    let smaller = (1..now.config.sample.monomers).contains(&settings.screen_monomers)
+        && !measured.compression.is_empty();
+    let (grids, small) = match !before.within_noise() && smaller {
+        true => screen_by_size(predictor, now, &effects, round)?,
+        false => (screen(predictor, now, &effects, round)?, Vec::new()),
+    };
+    report_ranking(
+        progress,
+        &format!("round {round}: screen ranking"),
+        measured,
+        &grids,
+    );
+    let detection: Vec<DetectionLimit> = grids
+        .iter()
+        .chain(&small)
+        .filter_map(|g| detection_limit(measured, g))
+        .collect();
+    let size_screened = (!small.is_empty()).then(|| {
+        let dropped: Vec<Effect> = small.iter().map(|g| g.effect).collect();
+        progress(&format!(
+            "round {round}: dropped by the {}-monomer screen: {}",
+            settings.screen_monomers,
+            names(&dropped)
+        ));
+        (settings.screen_monomers, dropped)
+    });
+    Ok((grids, detection, size_screened))
 }
 
 /// What a planned data set and system size can resolve: the detection limits from the
