@@ -3,7 +3,8 @@
 //! and sticking data of 27 RBD samples of 120 monomers per curve (docs/calibration/hidden_pair/),
 //! calibrated on 27 seeds with a first screen on 60 monomers and `--revisit`. On three samples
 //! per curve (tests/calibrate) the side walls, which only the omni curve carries, come back
-//! only inside their wide interval.
+//! only inside their wide interval; that case's revisit, committed beside it, replaces
+//! nothing.
 //!
 //! The calibration is rebuilt from its committed run cache (`--cache-only`: a run the cache
 //! lacks is an error, never simulated), byte for byte, so a change to the search, the fits,
@@ -13,7 +14,7 @@
 mod common;
 
 use common::Scratch;
-use dustdem::calibrate::{calibrate, Effect, MeasuredSet, RunCache, Settings};
+use dustdem::calibrate::{calibrate, Calibration, Effect, MeasuredSet, RunCache, Settings};
 use dustdem::config::Config;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -24,75 +25,91 @@ fn repo(path: &str) -> PathBuf {
 
 const DIR: &str = "docs/calibration/hidden_pair";
 const CONFIG: &str = "configs/calibrate_quick.toml";
-/// What `dustdem synth` hid in the data (the command is in the directory's README).
-const HIDDEN: [(Effect, f64); 2] = [
-    (Effect::SurfaceEnergy, 2.0),
-    (Effect::SideWallStrength, 300.0),
+
+/// The committed calibrations: measured file and output directory under `DIR`, and seeds.
+const CASES: [(&str, &str, u64); 2] = [
+    (
+        "measured_surface_energy_side_walls.toml",
+        "surface_energy_side_walls",
+        27,
+    ),
+    ("measured_damping_side_walls.toml", "damping_side_walls", 3),
 ];
 
-fn seeds() -> String {
-    (1..=27)
-        .map(|s| s.to_string())
-        .collect::<Vec<_>>()
-        .join(",")
+fn seeds(n: u64) -> String {
+    (1..=n).map(|s| s.to_string()).collect::<Vec<_>>().join(",")
 }
 
 #[test]
-fn the_committed_hidden_pair_calibration_rebuilds_from_its_run_cache() {
+fn the_committed_hidden_pair_calibrations_rebuild_from_their_run_cache() {
     let scratch = Scratch::new("hidden-pair");
-    let out = scratch.join("calibration");
-    let result = Command::new(env!("CARGO_BIN_EXE_dustdem"))
-        .current_dir(repo(""))
-        .args(["calibrate", "--measured", &format!("{DIR}/measured.toml")])
-        .args([
-            "--config",
-            CONFIG,
-            "--seeds",
-            &seeds(),
-            "--screen-monomers",
-            "60",
-        ])
-        .args(["--revisit", "--threads", "2", "--cache-only", "--cache"])
-        .arg(repo(&format!("{DIR}/run_cache")))
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(
-        result.status.success(),
-        "{}",
-        String::from_utf8_lossy(&result.stderr)
-    );
-    let committed = repo(DIR).join("calibration");
-    let mut compared = 0;
-    for entry in std::fs::read_dir(&out).unwrap() {
-        let path = entry.unwrap().path();
-        let name = path.file_name().unwrap().to_string_lossy().into_owned();
-        let old = std::fs::read(committed.join(&name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+    for (measured, dir, n) in CASES {
+        let out = scratch.join(dir);
+        let result = Command::new(env!("CARGO_BIN_EXE_dustdem"))
+            .current_dir(repo(""))
+            .args(["calibrate", "--measured", &format!("{DIR}/{measured}")])
+            .args([
+                "--config",
+                CONFIG,
+                "--seeds",
+                &seeds(n),
+                "--screen-monomers",
+                "60",
+            ])
+            .args(["--revisit", "--threads", "2", "--cache-only", "--cache"])
+            .arg(repo(&format!("{DIR}/run_cache")))
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
         assert!(
-            std::fs::read(&path).unwrap() == old,
-            "{name} differs from its rebuild from the run cache"
+            result.status.success(),
+            "{dir}: {}",
+            String::from_utf8_lossy(&result.stderr)
         );
-        compared += 1;
+        let committed = repo(DIR).join(dir);
+        let mut compared = 0;
+        for entry in std::fs::read_dir(&out).unwrap() {
+            let path = entry.unwrap().path();
+            let name = path.file_name().unwrap().to_string_lossy().into_owned();
+            let old = std::fs::read(committed.join(&name))
+                .unwrap_or_else(|e| panic!("{dir}/{name}: {e}"));
+            assert!(
+                std::fs::read(&path).unwrap() == old,
+                "{dir}/{name} differs from its rebuild from the run cache"
+            );
+            compared += 1;
+        }
+        assert!(compared >= 4, "{dir}: {compared} files");
     }
-    assert!(compared >= 4, "{compared} files");
 }
 
-#[test]
-fn both_hidden_effects_come_back_within_25_percent_after_the_revisit() {
-    let measured = MeasuredSet::load(&repo(&format!("{DIR}/measured.toml"))).unwrap();
+/// Case `k` of `CASES` calibrated through the library from the committed run cache.
+fn calibrated(k: usize) -> Calibration {
+    let (measured, _, n) = CASES[k];
+    let measured = MeasuredSet::load(&repo(&format!("{DIR}/{measured}"))).unwrap();
     let base = Config::load(&repo(CONFIG)).unwrap();
     let settings = Settings {
-        seeds: (1..=27).collect(),
+        seeds: (1..=n).collect(),
         screen_monomers: 60,
         revisit: true,
         threads: 2,
         ..Settings::default()
     };
     let cache = RunCache::read_only(&repo(&format!("{DIR}/run_cache")));
-    let cal = calibrate(&measured, &base, &settings, &cache, &|_| {}).unwrap();
+    calibrate(&measured, &base, &settings, &cache, &|_| {}).unwrap()
+}
+
+/// Surface energy ×2 and side walls ×300 on 27 samples per curve.
+#[test]
+fn both_hidden_effects_come_back_within_25_percent_after_the_revisit() {
+    let cal = calibrated(0);
+    let hidden = [
+        (Effect::SurfaceEnergy, 2.0),
+        (Effect::SideWallStrength, 300.0),
+    ];
     assert_eq!(cal.applied.len(), 2, "{:?}", cal.applied);
-    for (effect, hidden) in HIDDEN {
+    for (effect, hidden) in hidden {
         let (_, factor) = cal
             .applied
             .iter()
@@ -106,10 +123,29 @@ fn both_hidden_effects_come_back_within_25_percent_after_the_revisit() {
     }
     assert!(cal.final_gap().within_noise());
     // The first round fitted the surface energy with the side walls missing; searched for
-    // again with them in, it moved toward the hidden factor and replaced the first fit.
+    // again with them in, it moved toward the hidden factor and replaced the first fit, so
+    // the side walls were searched for again too.
     assert_eq!(cal.applied[0].0, Effect::SurfaceEnergy);
     let first = cal.rounds[0].applied.expect("round 1 applied an effect");
     let revisit = &cal.revisits[0];
     assert!(revisit.replaced && revisit.was == first, "{revisit:?}");
     assert!((cal.applied[0].1 - 2.0).abs() < (first.1 - 2.0).abs());
+    assert_eq!(cal.revisits.len(), 2);
+}
+
+/// Damping ×2 and side walls ×300 on three samples per curve (the data of tests/calibrate's
+/// two-effect case): the revisit finds the damping again at the same factor, the model it
+/// re-simulates is the one it has (the same χ², not lower), so nothing is replaced and the
+/// side walls are not searched for again.
+#[test]
+fn a_revisit_that_finds_the_same_fit_replaces_nothing() {
+    let cal = calibrated(1);
+    assert_eq!(cal.revisits.len(), 1, "{:?}", cal.revisits);
+    let revisit = &cal.revisits[0];
+    assert_eq!(revisit.round.decision.chosen(), Some(Effect::NormalDamping));
+    assert_eq!(revisit.round.applied, Some(revisit.was));
+    assert!(!revisit.replaced);
+    assert_eq!(cal.applied[0], revisit.was);
+    let after = revisit.round.gap_after.as_ref().unwrap();
+    assert_eq!(after.chi2, revisit.chi2_before);
 }
