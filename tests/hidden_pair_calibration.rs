@@ -68,18 +68,7 @@ fn the_committed_hidden_pair_calibrations_rebuild_from_their_run_cache() {
             String::from_utf8_lossy(&result.stderr)
         );
         let committed = repo(DIR).join(dir);
-        let mut compared = 0;
-        for entry in std::fs::read_dir(&out).unwrap() {
-            let path = entry.unwrap().path();
-            let name = path.file_name().unwrap().to_string_lossy().into_owned();
-            let old = std::fs::read(committed.join(&name))
-                .unwrap_or_else(|e| panic!("{dir}/{name}: {e}"));
-            assert!(
-                std::fs::read(&path).unwrap() == old,
-                "{dir}/{name} differs from its rebuild from the run cache"
-            );
-            compared += 1;
-        }
+        let compared = common::assert_rebuilt_as_committed(&out, &committed, dir);
         assert!(compared >= 4, "{dir}: {compared} files");
     }
 }
@@ -131,6 +120,10 @@ fn both_hidden_effects_come_back_within_25_percent_after_the_revisit() {
     assert!(revisit.replaced && revisit.was == first, "{revisit:?}");
     assert!((cal.applied[0].1 - 2.0).abs() < (first.1 - 2.0).abs());
     assert_eq!(cal.revisits.len(), 2);
+    // Each revisit ran with the others as they stood then: the first with round 2's side
+    // walls, the second with the revisited surface energy.
+    assert_eq!(revisit.with, vec![cal.rounds[1].applied.unwrap()]);
+    assert_eq!(cal.revisits[1].with, vec![cal.applied[0]]);
 }
 
 /// Damping ×2 and side walls ×300 on three samples per curve (the data of tests/calibrate's

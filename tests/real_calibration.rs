@@ -109,19 +109,7 @@ fn the_committed_real_data_reports_rebuild_from_their_run_cache() {
             String::from_utf8_lossy(&result.stderr)
         );
         let committed = repo("docs/calibration/real").join(dir);
-        let mut compared = 0;
-        for entry in std::fs::read_dir(&out).unwrap() {
-            let path = entry.unwrap().path();
-            let name = path.file_name().unwrap();
-            let old = std::fs::read(committed.join(name))
-                .unwrap_or_else(|e| panic!("{dir}/{}: {e}", name.to_string_lossy()));
-            assert!(
-                std::fs::read(&path).unwrap() == old,
-                "{dir}/{} differs from its rebuild from the run cache",
-                name.to_string_lossy()
-            );
-            compared += 1;
-        }
+        let compared = common::assert_rebuilt_as_committed(&out, &committed, dir);
         let expected = if plan { 1 } else { 5 };
         assert!(compared >= expected, "{dir}: {compared} files");
     }

@@ -288,12 +288,10 @@ pub(super) fn revisits_section(s: &mut String, cal: &Calibration) {
     );
     for r in &cal.revisits {
         let (effect, factor) = r.was;
-        let others: Vec<String> = cal
-            .applied
+        let others: Vec<String> = r
+            .with
             .iter()
-            .enumerate()
-            .filter(|(k, _)| *k != r.of)
-            .map(|(_, (e, f))| format!("{} x{}", e.name(), fmt_factor(*f)))
+            .map(|(e, f)| format!("{} x{}", e.name(), fmt_factor(*f)))
             .collect();
         let fits: Vec<String> = r
             .round

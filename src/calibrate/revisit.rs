@@ -16,6 +16,8 @@ pub struct Revisit {
     /// Its place among the applied effects, and what it was before.
     pub of: usize,
     pub was: (Effect, f64),
+    /// The other applied effects as they stood then: the round's model is the base with these.
+    pub with: Vec<(Effect, f64)>,
     /// The round run on the base model with every other applied effect.
     pub round: Round,
     /// χ² of the model as it stood when the revisit began.
@@ -40,8 +42,11 @@ pub(super) fn revisit(
     revisits: &mut Vec<Revisit>,
 ) -> Result<(Config, Vec<Prediction>), String> {
     let n = applied.len();
+    if n < 2 {
+        return Ok(current);
+    }
     let mut changed = false;
-    for j in (0..n).take_while(|_| n >= 2) {
+    for j in 0..n {
         if j == n - 1 && !changed {
             break;
         }
@@ -71,6 +76,7 @@ pub(super) fn revisit(
         revisits.push(Revisit {
             of: j,
             was,
+            with: others,
             round,
             chi2_before: chi2_now,
             replaced,

@@ -173,3 +173,21 @@ pub fn moving_cluster(law: &ContactLaw, random_speed: f64, seed: u64) -> Monomer
     }
     m
 }
+
+/// Asserts that every file `out` holds is byte for byte the one of the same name in
+/// `committed` (a rebuild of a committed result); returns how many it compared.
+pub fn assert_rebuilt_as_committed(out: &Path, committed: &Path, label: &str) -> usize {
+    let mut compared = 0;
+    for entry in std::fs::read_dir(out).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        let old =
+            std::fs::read(committed.join(&name)).unwrap_or_else(|e| panic!("{label}/{name}: {e}"));
+        assert!(
+            std::fs::read(&path).unwrap() == old,
+            "{label}/{name} differs from its rebuild from the run cache"
+        );
+        compared += 1;
+    }
+    compared
+}
