@@ -236,5 +236,12 @@ def calibrate(
     plan: bool = ...,
     cache: Optional[_PathLike] = ...,
     progress: Optional[Callable[[str], Any]] = ...,
+    *,
+    screen_seeds: int = ...,
+    screen_monomers: int = ...,
+    prune: bool = ...,
+    screen_both_ends: bool = ...,
+    revisit: bool = ...,
+    cache_only: bool = ...,
 ) -> CalibrationResult:
     """Calibrates the config's model against measured curves, as `dustdem calibrate`."""

@@ -192,12 +192,20 @@ def calibrate(measured: Union[PathLike, Sequence[PathLike]], config: ConfigLike,
               out: PathLike = "runs/calibration", seeds: Sequence[int] = (1, 2, 3),
               rounds: int = 2, threads: Optional[int] = None, plan: bool = False,
               cache: Optional[PathLike] = None,
-              progress: Optional[Callable[[str], Any]] = None) -> CalibrationResult:
+              progress: Optional[Callable[[str], Any]] = None, *, screen_seeds: int = 1,
+              screen_monomers: int = 0, prune: bool = True, screen_both_ends: bool = False,
+              revisit: bool = False, cache_only: bool = False) -> CalibrationResult:
     """Calibrates the config's model against measured curves, as `dustdem calibrate` does
     (with `plan`, only the detection limits: plan.md). `measured` is one file or several
     (fitted jointly, see configs/measured/). A config given as text or a dict is written to
     `out/base_config.toml`. Finished runs are kept in `cache` (default: out/run_cache), so a
     repeated calibration does not repeat them. Returns the summary lines and report files.
+
+    The keyword-only options are those of the command: `screen_seeds` and `screen_monomers`
+    (seeds and sample size of the screen and the 1-D fits; 0: all seeds, the config's size),
+    `prune=False` (``--no-prune``), `screen_both_ends`, `revisit` (search again for each
+    applied effect with the others in, one backfitting pass) and `cache_only` (read finished
+    runs from `cache` and simulate nothing: a run missing from it is an error).
     """
     items = [measured] if isinstance(measured, (str, os.PathLike)) else list(measured)
     text, path, _ = config_source(config)
@@ -208,6 +216,7 @@ def calibrate(measured: Union[PathLike, Sequence[PathLike]], config: ConfigLike,
         Path(path).write_text(text or "")
     lines, files = _dustdem.calibrate(
         [os.fspath(m) for m in items], path, os.fspath(out), list(seeds), rounds, threads,
-        plan, None if cache is None else os.fspath(cache), progress,
+        plan, None if cache is None else os.fspath(cache), progress, screen_seeds,
+        screen_monomers, prune, screen_both_ends, revisit, cache_only,
     )
     return CalibrationResult(out, lines, [Path(f) for f in files])

@@ -293,7 +293,7 @@ fn stop_on_signals(flag: &Arc<AtomicBool>) -> Vec<signal_hook::SigId> {
 /// Calibrates the config's model against measured curves (or, with `plan`, only estimates
 /// what they can resolve); writes the report into `out` and returns its lines and files.
 #[pyfunction]
-#[pyo3(signature = (measured, config, out, seeds=None, rounds=2, threads=None, plan=false, cache=None, progress=None))]
+#[pyo3(signature = (measured, config, out, seeds=None, rounds=2, threads=None, plan=false, cache=None, progress=None, screen_seeds=1, screen_monomers=0, prune=true, screen_both_ends=false, revisit=false, cache_only=false))]
 pub fn calibrate(
     py: Python<'_>,
     measured: Vec<PathBuf>,
@@ -305,9 +305,20 @@ pub fn calibrate(
     plan: bool,
     cache: Option<PathBuf>,
     progress: Option<PyObject>,
+    screen_seeds: usize,
+    screen_monomers: usize,
+    prune: bool,
+    screen_both_ends: bool,
+    revisit: bool,
+    cache_only: bool,
 ) -> PyResult<(Vec<String>, Vec<String>)> {
     let mut settings = Settings {
         max_rounds: rounds,
+        screen_seeds,
+        screen_monomers,
+        prune,
+        both_ends: screen_both_ends,
+        revisit,
         ..Settings::default()
     };
     if let Some(s) = seeds {
@@ -318,7 +329,11 @@ pub fn calibrate(
         settings.threads = t;
     }
     let _lock = lock_dir(&out).or_run_error()?;
-    let cache = RunCache::persistent(&cache.unwrap_or_else(|| out.join("run_cache")));
+    let cache_dir = cache.unwrap_or_else(|| out.join("run_cache"));
+    let cache = match cache_only {
+        true => RunCache::read_only(&cache_dir),
+        false => RunCache::persistent(&cache_dir),
+    };
     let error = std::sync::Mutex::new(None);
     let result = py.allow_threads(|| {
         let say = |line: &str| say_line(&progress, line, &error);

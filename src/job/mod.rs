@@ -11,10 +11,13 @@ mod backend;
 mod checkpoint;
 mod collision;
 pub(crate) mod figure;
+mod progress;
 
 pub use backend::{gpu_report, reference_engine, Backend, PrecisionChoice, PrivateRuntimeDir};
 pub use checkpoint::{load_checkpoint, LoadedCheckpoint};
 pub use figure::{curve_plot, BLUM_SCHRAEPLER_2004_UNI, GUETTLER_2009_OMNI};
+use progress::fraction_done;
+pub use progress::Progress;
 
 use crate::backend::cpu::CpuEngine;
 use crate::backend::gpu::engine::GpuEngine;
@@ -48,15 +51,6 @@ pub struct JobSummary {
     pub out_dir: PathBuf,
     pub files: Vec<PathBuf>,
     pub lines: Vec<String>,
-}
-
-/// Progress of a compression, once per row.
-pub struct Progress<'a> {
-    pub row: &'a Row,
-    /// Fraction of the way from the starting φ to φ_stop (or of max_steps, if further).
-    pub fraction: f64,
-    /// Steps per second of wall-clock time since the job (or resume) started.
-    pub steps_per_second: f64,
 }
 
 /// How a job reports, where it runs and when it stops early.
@@ -271,9 +265,9 @@ fn drive<E: Engine>(
     let mut rows_since_snapshot = 0u64;
     let snapshot_every = config.output.snapshot_every_rows;
     let snapshot_format = config.output.snapshot_format;
-    let mut phi_start = f64::NAN;
     let e = &config.experiment;
     let (phi_stop, max_steps) = (e.phi_stop, e.max_steps);
+    let wall_speed = e.wall_speed_m_s * 100.0;
     let progress = &mut options.progress;
     let notice = &mut options.notice;
     let interrupt = options.interrupt;
@@ -282,15 +276,10 @@ fn drive<E: Engine>(
             curve
                 .write_row(&row.values())
                 .map_err(io_err(&curve_path))?;
-            if phi_start.is_nan() {
-                phi_start = row.phi;
-            }
-            let by_phi = (row.phi - phi_start) / (phi_stop - phi_start);
-            let by_steps = row.step as f64 / max_steps as f64;
             let elapsed = started.elapsed().as_secs_f64().max(1e-9);
             progress(&Progress {
                 row,
-                fraction: by_phi.max(by_steps).clamp(0.0, 1.0),
+                fraction: fraction_done(row, wall_speed, phi_stop, max_steps),
                 steps_per_second: (row.step - start_step) as f64 / elapsed,
             });
             rows_since_checkpoint += 1;
