@@ -6,7 +6,7 @@
 //! Run: `cargo run --release --example front_speed -- RUN_DIR WALL_SPEED_M_S`.
 
 use dustdem::analysis::front::{front_heights, mass_balance_front, run_front_speed, FrontOptions};
-use dustdem::analysis::run_files::{attach_wall_heights, read_curve_table, read_profiles};
+use dustdem::analysis::run_files::read_run_profiles;
 use std::path::PathBuf;
 
 fn main() -> Result<(), String> {
@@ -18,8 +18,7 @@ fn main() -> Result<(), String> {
         .ok_or(usage)?
         .parse()
         .map_err(|e| format!("WALL_SPEED_M_S: {e}"))?;
-    let mut profiles = read_profiles(dir.join("profiles.csv"))?;
-    attach_wall_heights(&mut profiles, &read_curve_table(dir.join("curve.csv"))?);
+    let profiles = read_run_profiles(&dir)?;
     let opt = FrontOptions::default();
     let points = front_heights(&profiles, &opt);
     println!(

@@ -140,6 +140,16 @@ pub fn attach_wall_heights(profiles: &mut [Profile], curve: &CurveTable) {
     }
 }
 
+/// A run directory's `profiles.csv` with the top-wall heights from its `curve.csv` where that
+/// reads (without it the profiles keep `None`): what the front readings need.
+pub fn read_run_profiles(run_dir: &Path) -> Result<Vec<Profile>, String> {
+    let mut profiles = read_profiles(run_dir.join("profiles.csv"))?;
+    if let Ok(table) = read_curve_table(run_dir.join("curve.csv")) {
+        attach_wall_heights(&mut profiles, &table);
+    }
+    Ok(profiles)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -12,9 +12,7 @@ use crate::analysis::front::{front_heights, run_front_speed, FrontOptions};
 use crate::analysis::law_checks::{self, Law, Laws, SpeedValue};
 use crate::analysis::per_speed::{fit_speed, SpeedFit, GUETTLER_PHI1, GUETTLER_PHI2};
 use crate::analysis::regimes::{regimes_of_runs, RegimeOptions, RegimeSummary};
-use crate::analysis::run_files::{
-    attach_wall_heights, read_curve, read_curve_table, read_profiles,
-};
+use crate::analysis::run_files::{read_curve, read_run_profiles};
 use crate::analysis::speed_laws::{
     PowerLaw, Quadratic, ShiftedPowerLaw, PAPER_DELTA, PAPER_PM_DYNAMIC, PAPER_PM_DYNAMIC_SQUARE,
     PAPER_PM_QUASI_STATIC, PAPER_V_CRIT,
@@ -223,10 +221,7 @@ pub fn read_cases(dir: &Path) -> Result<(Vec<CaseData>, Vec<String>), String> {
 
 /// The front speed of one run from its profiles, where it wrote enough of them.
 fn front_of(case_dir: &Path) -> Option<f64> {
-    let mut profiles = read_profiles(case_dir.join("profiles.csv")).ok()?;
-    if let Ok(table) = read_curve_table(case_dir.join("curve.csv")) {
-        attach_wall_heights(&mut profiles, &table);
-    }
+    let profiles = read_run_profiles(case_dir).ok()?;
     run_front_speed(&profiles, &FrontOptions::default()).map(|f| f.front.v)
 }
 

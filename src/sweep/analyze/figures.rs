@@ -151,10 +151,7 @@ pub fn profile_figure_name(c: &CaseData) -> String {
 /// φ against height at six times of one run, each with its front (dotted) where found: the
 /// dense layer under the wall and how it moves down.
 pub(super) fn profiles_plot(case_dir: &Path, c: &CaseData) -> Option<Plot> {
-    let mut profiles = read_profiles(case_dir.join("profiles.csv")).ok()?;
-    if let Ok(table) = read_curve_table(case_dir.join("curve.csv")) {
-        attach_wall_heights(&mut profiles, &table);
-    }
+    let profiles = read_run_profiles(case_dir).ok()?;
     if profiles.len() < 2 {
         return None;
     }
