@@ -26,6 +26,7 @@ pub mod integrate_lanes;
 pub mod lanes;
 pub mod memory;
 pub mod neighbours;
+pub mod partner_index;
 mod prefetch;
 pub mod scan;
 pub mod walls;

@@ -2,8 +2,9 @@
 //! fixed chunking that makes every sum independent of the thread count.
 
 use super::forces::PairResult;
+use super::partner_index::PartnerIndex;
 use super::walls::WallResult;
-use crate::state::{ContactTable, Dissipation};
+use crate::state::Dissipation;
 use glam::DVec3;
 
 /// Monomers per unit of parallel work. Sums that leave the monomer loop (dissipation, work) are
@@ -33,79 +34,6 @@ pub fn sum_in_order(chunks: &[Dissipation]) -> Dissipation {
         total.add(c);
     }
     total
-}
-
-/// Where each owner's contacts sit in the per-contact results (their owners' contacts one
-/// after another, in owner and slot order), and for each monomer which of those results it is
-/// the partner of, in that order: compressed sparse rows rebuilt after every contact event.
-///
-/// The results are compact rather than one per slot: at 10⁵ monomers 12 slots of 96 B per
-/// owner for about one contact spread 19 MB of results over 115 MB (DESIGN.md, "CPU engine:
-/// prefetching contact rows").
-#[derive(Clone, Debug, Default)]
-pub struct PartnerIndex {
-    owner_start: Vec<u32>,
-    start: Vec<u32>,
-    slots: Vec<u32>,
-    /// Fill positions while rebuilding (kept to reuse its allocation).
-    next: Vec<u32>,
-}
-
-impl PartnerIndex {
-    /// Heap bytes of the index's arrays.
-    pub fn heap_bytes(&self) -> u64 {
-        [&self.owner_start, &self.start, &self.slots, &self.next]
-            .iter()
-            .map(|v| super::memory::bytes(v))
-            .sum()
-    }
-
-    /// Rebuilds the index from the table (counting sort by partner; stable in owner order).
-    pub fn rebuild(&mut self, table: &ContactTable) {
-        let n = table.pair_count.len();
-        let ps = table.pair_slots;
-        self.owner_start.clear();
-        self.owner_start.push(0);
-        let mut total = 0;
-        for &count in &table.pair_count {
-            total += count;
-            self.owner_start.push(total);
-        }
-        self.start.clear();
-        self.start.resize(n + 1, 0);
-        for i in 0..n {
-            for c in &table.pair[i * ps..i * ps + table.pair_count[i] as usize] {
-                self.start[c.partner as usize + 1] += 1;
-            }
-        }
-        for j in 0..n {
-            self.start[j + 1] += self.start[j];
-        }
-        self.slots.clear();
-        self.slots.resize(self.start[n] as usize, 0);
-        self.next.clear();
-        self.next.extend_from_slice(&self.start[..n]);
-        for i in 0..n {
-            for (s, c) in table.pair[i * ps..i * ps + table.pair_count[i] as usize]
-                .iter()
-                .enumerate()
-            {
-                let at = &mut self.next[c.partner as usize];
-                self.slots[*at as usize] = self.owner_start[i] + s as u32;
-                *at += 1;
-            }
-        }
-    }
-
-    /// Positions in the per-contact results whose partner is monomer `j`.
-    pub fn of(&self, j: usize) -> &[u32] {
-        &self.slots[self.start[j] as usize..self.start[j + 1] as usize]
-    }
-
-    /// Where owner `i`'s results begin (`n + 1` entries; the last is the number of contacts).
-    pub fn owner_start(&self) -> &[u32] {
-        &self.owner_start
-    }
 }
 
 /// Everything the passes keep between steps besides the state.
