@@ -3,7 +3,7 @@
 //! rebuilt after every step with a contact event.
 //!
 //! Under compression nearly every step has events, so the rebuild runs every step; done on
-//! one thread, reading the table's 96-byte contacts twice, it took about a tenth of a
+//! one thread, reading the table's 64-byte contacts twice, it took about a tenth of a
 //! two-thread step of a compressed 10⁴ sample (DESIGN.md, "CPU engine: the partner index").
 //! It now reads the table once, in parallel, into a compact array of partners, and then
 //! counts and places the contacts by ranges of partners, one range per thread: each range
@@ -196,6 +196,8 @@ mod tests {
         assert_eq!(index.owner_start(), [0, 2, 3, 3, 4]);
         let of: Vec<&[u32]> = (0..4).map(|j| index.of(j)).collect();
         assert_eq!(of, [&[][..], &[1], &[0, 2, 3], &[]]);
+        // Owner starts and partner starts 5 entries each, slots and partners 4: 18 × 4 B.
+        assert!(index.heap_bytes() >= 72, "{} B", index.heap_bytes());
     }
 
     #[test]
