@@ -11,7 +11,7 @@
 
 use super::forces_lanes::{chunk_forces, ContactLanes, OwnerChunk};
 use super::prefetch::worthwhile;
-use super::workspace::{split_len, Workspace, CHUNK};
+use super::workspace::{chunk_offsets, split_at_offsets, split_len, Workspace, CHUNK};
 use crate::backend::script::{OWNER_CORRECTIONS, OWNER_INDEX};
 use crate::model::{rolling, sliding, twisting, ContactLaw};
 use crate::state::interaction::{
@@ -131,14 +131,7 @@ pub fn forces(
         .pair_result
         .resize(owner_start[n] as usize, PairResult::default());
     // Each chunk of owners writes its own contiguous stretch of results.
-    let mut stretches = Vec::with_capacity(n.div_ceil(CHUNK));
-    let mut rest = &mut workspace.pair_result[..];
-    for first in (0..n).step_by(CHUNK) {
-        let end = owner_start[(first + CHUNK).min(n)] - owner_start[first];
-        let (stretch, tail) = rest.split_at_mut(end as usize);
-        stretches.push(stretch);
-        rest = tail;
-    }
+    let stretches = split_at_offsets(&mut workspace.pair_result, chunk_offsets(owner_start));
     let prefetching = worthwhile(table);
     let lanes = ContactLanes::chosen();
     let counts = &table.pair_count;

@@ -9,12 +9,9 @@
 //! counts and places the contacts by ranges of partners, one range per thread: each range
 //! owns its part of the output, so the index is the same for any number of ranges.
 
-use super::workspace::SERIAL_BELOW;
+use super::workspace::{chunk_offsets, split_at_offsets, CHUNK, SERIAL_BELOW};
 use crate::state::ContactTable;
 use rayon::prelude::*;
-
-/// Owners per unit of the parallel gather of partners.
-const GATHER_OWNERS: usize = 512;
 
 /// Compressed sparse rows: the owners' contacts one after another in owner and slot order
 /// (`owner_start`), and per partner the positions of its contacts in that order, ascending.
@@ -91,19 +88,12 @@ fn gather_partners(table: &ContactTable, owner_start: &[u32], partner: &mut Vec<
     let ps = table.pair_slots;
     partner.clear();
     partner.resize(owner_start[n] as usize, 0);
-    let mut stretches = Vec::with_capacity(n.div_ceil(GATHER_OWNERS));
-    let mut rest = &mut partner[..];
-    for first in (0..n).step_by(GATHER_OWNERS) {
-        let end = (first + GATHER_OWNERS).min(n);
-        let (stretch, tail) = rest.split_at_mut((owner_start[end] - owner_start[first]) as usize);
-        stretches.push(stretch);
-        rest = tail;
-    }
+    let stretches = split_at_offsets(partner, chunk_offsets(owner_start));
     let min_len = if n < SERIAL_BELOW { usize::MAX } else { 1 };
     table
         .pair
-        .par_chunks(GATHER_OWNERS * ps)
-        .zip(table.pair_count.par_chunks(GATHER_OWNERS))
+        .par_chunks(CHUNK * ps)
+        .zip(table.pair_count.par_chunks(CHUNK))
         .zip(stretches.into_par_iter())
         .with_min_len(min_len)
         .for_each(|((rows, counts), out)| {
@@ -116,20 +106,9 @@ fn gather_partners(table: &ContactTable, owner_start: &[u32], partner: &mut Vec<
         });
 }
 
-/// Splits `items` (one per monomer from `ranges[0]`) at the ranges' boundaries.
-fn split_by_ranges<'a, T>(mut items: &'a mut [T], ranges: &[usize]) -> Vec<&'a mut [T]> {
-    let mut parts = Vec::with_capacity(ranges.len() - 1);
-    for w in ranges.windows(2) {
-        let (part, tail) = items.split_at_mut(w[1] - w[0]);
-        parts.push(part);
-        items = tail;
-    }
-    parts
-}
-
 /// `counts[j]` = how many contacts have partner `j`: each range counts its own partners.
 fn count_by_partner(partner: &[u32], ranges: &[usize], counts: &mut [u32]) {
-    split_by_ranges(counts, ranges)
+    split_at_offsets(counts, ranges.iter().copied())
         .into_par_iter()
         .enumerate()
         .for_each(|(r, counts)| {
@@ -145,14 +124,7 @@ fn count_by_partner(partner: &[u32], ranges: &[usize], counts: &mut [u32]) {
 /// Places each contact's position under its partner, ascending: each range fills the part of
 /// `slots` its partners own (`start[a]..start[b]`), reading the contacts in order.
 fn place_by_partner(partner: &[u32], ranges: &[usize], start: &[u32], slots: &mut [u32]) {
-    let bounds: Vec<usize> = ranges.iter().map(|&j| start[j] as usize).collect();
-    let mut parts = Vec::with_capacity(ranges.len() - 1);
-    let mut rest = slots;
-    for w in bounds.windows(2) {
-        let (part, tail) = rest.split_at_mut(w[1] - w[0]);
-        parts.push(part);
-        rest = tail;
-    }
+    let parts = split_at_offsets(slots, ranges.iter().map(|&j| start[j] as usize));
     parts.into_par_iter().enumerate().for_each(|(r, part)| {
         let (a, b) = (ranges[r], ranges[r + 1]);
         let base = start[a];

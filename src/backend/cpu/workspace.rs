@@ -27,6 +27,35 @@ pub fn split_len(n: usize, unit: usize) -> usize {
     }
 }
 
+/// Splits `items` into consecutive parts, part `k` from `offsets[k]` to `offsets[k + 1]`
+/// (offsets ascending, the first 0): how a parallel pass hands each unit its own stretch of an
+/// output laid out by owner or by partner.
+pub fn split_at_offsets<T>(
+    mut items: &mut [T],
+    offsets: impl IntoIterator<Item = usize>,
+) -> Vec<&mut [T]> {
+    let mut offsets = offsets.into_iter();
+    let mut at = offsets.next().unwrap_or(0);
+    let mut parts = Vec::new();
+    for next in offsets {
+        let (part, tail) = items.split_at_mut(next - at);
+        parts.push(part);
+        items = tail;
+        at = next;
+    }
+    parts
+}
+
+/// The offsets of `starts` (per owner, `n + 1` entries) at every chunk of owners: where each
+/// chunk's stretch of a per-contact output begins, and where the last one ends.
+pub fn chunk_offsets(starts: &[u32]) -> impl Iterator<Item = usize> + '_ {
+    let n = starts.len() - 1;
+    (0..n)
+        .step_by(CHUNK)
+        .chain(std::iter::once(n))
+        .map(|owner| starts[owner] as usize)
+}
+
 /// Sums per-chunk tallies in chunk order.
 pub fn sum_in_order(chunks: &[Dissipation]) -> Dissipation {
     let mut total = Dissipation::default();
@@ -65,5 +94,31 @@ impl Workspace {
     /// read, so stale values there are harmless).
     pub fn size_wall_results(&mut self, len: usize) {
         self.wall_result.resize(len, WallResult::default());
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parts_run_from_offset_to_offset() {
+        let mut items = [1, 2, 3, 4, 5];
+        let parts = split_at_offsets(&mut items, [0, 2, 2, 5]);
+        let parts: Vec<&[i32]> = parts.into_iter().map(|p| &*p).collect();
+        assert_eq!(parts, [&[1, 2][..], &[], &[3, 4, 5]]);
+    }
+
+    #[test]
+    fn chunk_offsets_mark_every_chunk_of_owners_and_the_end() {
+        // Owner i has i % 3 contacts; the offsets are the running totals at 0, CHUNK, .., n.
+        let n = 2 * CHUNK + 7;
+        let mut starts = vec![0u32];
+        for i in 0..n {
+            starts.push(starts[i] + (i % 3) as u32);
+        }
+        let total = |owners: usize| (0..owners).map(|i| i % 3).sum::<usize>();
+        let offsets: Vec<usize> = chunk_offsets(&starts).collect();
+        assert_eq!(offsets, [0, total(CHUNK), total(2 * CHUNK), total(n)]);
     }
 }
