@@ -4,7 +4,7 @@
 //! batch stop after different iterations), owners with 0 to 12 contacts (batches that span
 //! owners, a last batch of fewer than four), and each damping law.
 
-use dustdem::backend::cpu::corrections_lanes::{chunk_corrections, KnownResult};
+use dustdem::backend::cpu::corrections_lanes::chunk_corrections;
 use dustdem::backend::cpu::forces::PairResult;
 use dustdem::backend::cpu::forces_lanes::{
     chunk_forces, jkr_contact_radius_ratio_lanes, ContactLanes, OwnerChunk,
@@ -17,7 +17,6 @@ use dustdem::material::Material;
 use dustdem::model::normal::{jkr_contact_radius_ratio, D_MIN};
 use dustdem::model::{ContactLaw, Damping, ModelOptions};
 use dustdem::rng::Rng;
-use dustdem::state::interaction::pair_interaction;
 use dustdem::state::{Dissipation, Monomers, PairContact};
 use glam::DVec3;
 
@@ -97,7 +96,6 @@ fn evaluate(
     m: &Monomers,
     rows: &[PairContact],
     counts: &[u32],
-    known: &[KnownResult],
 ) -> Vec<PairResult> {
     let total = counts.iter().sum::<u32>() as usize;
     let mut results = vec![PairResult::default(); total];
@@ -108,7 +106,7 @@ fn evaluate(
         first: 0,
         prefetching: true,
     };
-    chunk_forces(lanes, law, m, chunk, known, &mut results);
+    chunk_forces(lanes, law, m, chunk, &mut results);
     results
 }
 
@@ -136,11 +134,11 @@ fn every_lane_choice_gives_the_scalar_bits_for_each_damping_law() {
     for (seed, damping) in laws.into_iter().enumerate() {
         let law = law(damping);
         let (m, rows, counts) = contacts(&law, 97, seed as u64 + 1, 1.0);
-        let reference = evaluate(ContactLanes::Scalar, &law, &m, &rows, &counts, &[]);
+        let reference = evaluate(ContactLanes::Scalar, &law, &m, &rows, &counts);
         assert!(reference.len() > 400, "{} contacts", reference.len());
         assert!(reference.iter().all(|r| r.force.is_finite()));
         for &lanes in &choices {
-            let got = evaluate(lanes, &law, &m, &rows, &counts, &[]);
+            let got = evaluate(lanes, &law, &m, &rows, &counts);
             assert_eq!(got.len(), reference.len());
             assert!(bits(&got) == bits(&reference), "{lanes:?}, {damping:?}");
         }
@@ -315,59 +313,6 @@ fn corrected(
         .map(|(i, (row, &count))| (i, &mut row[..count as usize]));
     chunk_corrections(lanes, law, 3e-10, m, owners, &mut tally);
     (row_bits(&rows), tally)
-}
-
-#[test]
-fn the_corrections_hand_the_forces_pass_the_force_of_each_corrected_contact() {
-    let law = law(Damping::Viscous { kappa: 1e-6 });
-    let (mut m, rows, counts) = contacts(&law, 131, 11, 1e-2);
-    let mut rng = Rng::new(5);
-    for v in m.velocity.iter_mut() {
-        *v = DVec3::new(rng.normal(), rng.normal(), rng.normal()) * 10.0;
-    }
-    for lanes in [ContactLanes::Portable, ContactLanes::detected()] {
-        let mut after = rows.clone();
-        let owners = after.chunks_mut(SLOTS).zip(&counts).enumerate();
-        let owners = owners.map(|(i, (row, &count))| (i, &mut row[..count as usize]));
-        let known = chunk_corrections(lanes, &law, 3e-10, &m, owners, &mut Dissipation::default());
-        // Exactly the contacts the corrections changed, in owner and slot order.
-        let changed: Vec<(u32, u32)> = (0..after.len())
-            .filter(|&s| (s % SLOTS) < counts[s / SLOTS] as usize && after[s] != rows[s])
-            .map(|s| ((s / SLOTS) as u32, (s % SLOTS) as u32))
-            .collect();
-        let listed: Vec<(u32, u32)> = known.iter().map(|k| (k.owner, k.slot)).collect();
-        assert!(changed.len() > 20, "{} corrected", changed.len());
-        assert_eq!(listed, changed, "{lanes:?}: the corrected contacts");
-        // Each is the contact law on the corrected contact, evaluated on its own.
-        for k in &known {
-            let (i, c) = (
-                k.owner as usize,
-                &after[k.owner as usize * SLOTS + k.slot as usize],
-            );
-            let j = c.partner as usize;
-            let (p, v) = (&m.position, &m.velocity);
-            let (force, damping, torque_owner, torque_partner) =
-                pair_interaction(&law, p[i], p[j], v[i], v[j], c);
-            let expected = PairResult {
-                force,
-                damping,
-                torque_owner,
-                torque_partner,
-            };
-            assert_eq!(
-                bits(&[k.result]),
-                bits(&[expected]),
-                "{lanes:?}: {i}/{}",
-                k.slot
-            );
-        }
-        // The forces pass takes them where they are and evaluates the rest: the same bits.
-        let reference = evaluate(ContactLanes::Scalar, &law, &m, &after, &counts, &[]);
-        for forces in [ContactLanes::Scalar, lanes] {
-            let got = evaluate(forces, &law, &m, &after, &counts, &known);
-            assert!(bits(&got) == bits(&reference), "{lanes:?} then {forces:?}");
-        }
-    }
 }
 
 #[test]

@@ -8,7 +8,7 @@
 //! chunks, each summing its dissipation in owner order); a row's events are the same whatever
 //! the thread count.
 
-use super::corrections_lanes::{chunk_corrections, KnownResult};
+use super::corrections_lanes::chunk_corrections;
 use super::forces_lanes::ContactLanes;
 use super::walls::{wall_contacts_of, WallResult};
 use super::workspace::{split_len, sum_in_order, Workspace, CHUNK};
@@ -47,9 +47,8 @@ struct Shared<'a> {
 /// Does what `work` (contacts_scan's list) says for each listed owner: its contact events
 /// (`candidates` are the neighbour-list pairs, i < j, sorted; `starts` where each owner's
 /// begin, [`super::neighbours::owner_starts`]), its pair contacts' inelastic limits, its wall
-/// contacts' limits and forces (into `workspace`'s per-slot wall results). The corrected
-/// contacts' force and torques go to `workspace.known_results` for the forces pass. Returns
-/// whether any contact formed or broke.
+/// contacts' limits and forces (into `workspace`'s per-slot wall results). Returns whether any
+/// contact formed or broke.
 #[allow(clippy::too_many_arguments)]
 pub fn contacts(
     law: &ContactLaw,
@@ -76,8 +75,7 @@ pub fn contacts(
     workspace.size_wall_results(n * ws);
     let lanes = ContactLanes::chosen();
     // Owners are few and far between in the list, so rows are not prefetched here.
-    type ChunkOutcome = Result<(Dissipation, bool, Vec<KnownResult>), EngineError>;
-    let chunks: Vec<ChunkOutcome> = (
+    let chunks: Vec<Result<(Dissipation, bool), EngineError>> = (
         table.pair.par_chunks_mut(CHUNK * ps),
         table.pair_count.par_chunks_mut(CHUNK),
         table.wall.par_chunks_mut(CHUNK * ws),
@@ -116,19 +114,17 @@ pub fn contacts(
                     rows.find(|(owner, _)| *owner == i)
                         .expect("a listed owner's row")
                 });
-                let known = chunk_corrections(lanes, law, dt, monomers, owners, &mut dissipated);
-                Ok((dissipated, changed, known))
+                chunk_corrections(lanes, law, dt, monomers, owners, &mut dissipated);
+                Ok((dissipated, changed))
             },
         )
         .collect();
     let mut sums = Vec::with_capacity(chunks.len());
     let mut changed = false;
-    workspace.known_results.clear();
     for c in chunks {
-        let (sum, c, known) = c?;
+        let (sum, c) = c?;
         sums.push(sum);
         changed |= c;
-        workspace.known_results.push(known);
     }
     tally.add(&sum_in_order(&sums));
     Ok(changed)

@@ -11,14 +11,10 @@
 //! 3. The drops booked channel by channel in the scalar order (owner, contact, rolling before
 //!    sliding before twisting), so the tally is the scalar code's to the bit.
 //!
-//! The step energy of a contact's last state evaluates its force and torques at the positions
-//! and velocities the forces pass will see: they are handed on ([`KnownResult`]) so the forces
-//! pass does not evaluate the contact again.
-//!
 //! In a compressed sample most contacts of a flagged owner roll or slide every step, and these
 //! energies were most of the contacts pass (DESIGN.md, "The CPU engine on many cores").
 
-use super::forces::{apply_inelastic_limits, PairResult};
+use super::forces::apply_inelastic_limits;
 use super::forces_lanes::{
     pair_geometry_lanes, pair_interaction_at_lanes, ContactLanes, PairGeometryLanes,
 };
@@ -28,7 +24,7 @@ use super::lanes::{Isa, Portable, F4, V4};
 use crate::model::normal::{jkr_force, D_MIN, X_AT_ZERO_OVERLAP, X_MIN};
 use crate::model::{rolling, sliding, twisting, ContactLaw};
 use crate::state::interaction::{
-    pair_geometry, pair_interaction_at, pair_normal_potential, pair_step_energy_at, PairGeometry,
+    pair_geometry, pair_normal_potential, pair_step_energy_at, PairGeometry,
 };
 use crate::state::{Dissipation, Monomers, PairContact};
 
@@ -40,22 +36,11 @@ struct EnergyOf {
     state: PairContact,
 }
 
-/// A corrected contact: owner, partner, and its slot in the owner's row.
+/// A corrected contact: owner and partner.
 #[derive(Clone, Copy)]
 struct Corrected {
     i: usize,
     j: usize,
-    slot: usize,
-}
-
-/// The force and torques of a corrected contact in its final state (slot `slot` of owner
-/// `owner`), from the step energy of that state: the same operations on the same positions,
-/// velocities and contact as the forces pass's, so the same bits.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct KnownResult {
-    pub owner: u32,
-    pub slot: u32,
-    pub result: PairResult,
 }
 
 /// What a corrected contact's states share, as `apply_inelastic_limits` shares it: the
@@ -76,9 +61,7 @@ struct Booking {
 }
 
 /// The corrections of the owners `rows` lists (owner index, its contacts), `lanes` wide,
-/// their dissipation added to `tally`. Returns the corrected contacts' final force and
-/// torques, by owner and slot (none where `lanes` is scalar: the reference evaluates each
-/// contact in the forces pass).
+/// their dissipation added to `tally`.
 pub fn chunk_corrections<'a>(
     lanes: ContactLanes,
     law: &ContactLaw,
@@ -86,24 +69,23 @@ pub fn chunk_corrections<'a>(
     m: &Monomers,
     rows: impl Iterator<Item = (usize, &'a mut [PairContact])>,
     tally: &mut Dissipation,
-) -> Vec<KnownResult> {
+) {
     if lanes == ContactLanes::Scalar {
         for (i, contacts) in rows {
             for c in contacts {
                 apply_inelastic_limits(law, m, dt, i, c, tally);
             }
         }
-        return vec![];
+        return;
     }
     let mut states = vec![];
     let mut contacts = vec![];
     let mut bookings = vec![];
     for (i, row) in rows {
-        for (slot, c) in row.iter_mut().enumerate() {
+        for c in row {
             let contact = Corrected {
                 i,
                 j: c.partner as usize,
-                slot,
             };
             if let Some(b) = correct(law, m, contact, contacts.len(), c, &mut states) {
                 contacts.push(contact);
@@ -112,15 +94,8 @@ pub fn chunk_corrections<'a>(
         }
     }
     let shared = shared_geometries(lanes, law, m, &contacts);
-    let (energies, results) = step_energies(lanes, law, dt, m, &contacts, &shared, &states);
-    let mut known = Vec::with_capacity(contacts.len());
-    for (b, contact) in bookings.into_iter().zip(&contacts) {
-        let last = b.first + usize::from(b.rolled) + usize::from(b.slid) + usize::from(b.twisted);
-        known.push(KnownResult {
-            owner: contact.i as u32,
-            slot: contact.slot as u32,
-            result: results[last],
-        });
+    let energies = step_energies(lanes, law, dt, m, &contacts, &shared, &states);
+    for b in bookings {
         let mut e = energies[b.first..].iter();
         let mut before = *e.next().expect("the state before");
         let mut book = |channel: &mut f64| {
@@ -138,7 +113,6 @@ pub fn chunk_corrections<'a>(
             book(&mut tally.twisting);
         }
     }
-    known
 }
 
 /// `apply_inelastic_limits` without the energies: the corrections applied to `c`, the states
@@ -146,7 +120,7 @@ pub fn chunk_corrections<'a>(
 fn correct(
     law: &ContactLaw,
     m: &Monomers,
-    Corrected { i, j, .. }: Corrected,
+    Corrected { i, j }: Corrected,
     contact: usize,
     c: &mut PairContact,
     states: &mut Vec<EnergyOf>,
@@ -213,7 +187,7 @@ fn shared_geometries(
         _ => geometries_in_lanes::<Portable>(law, m, &contacts[..4 * batches], &mut shared),
     }
     let (p, v) = (&m.position, &m.velocity);
-    for &Corrected { i, j, .. } in &contacts[4 * batches..] {
+    for &Corrected { i, j } in &contacts[4 * batches..] {
         let geometry = pair_geometry(law, p[i], p[j], v[i], v[j]);
         let normal_potential = pair_normal_potential(law, &geometry);
         shared.push(Shared {
@@ -269,8 +243,7 @@ fn geometries_in_lanes<S: Isa>(
 }
 
 /// The step energy of every noted state, in order, `lanes` wide, from its contact's shared
-/// geometry, with the force and torques each state's energy evaluated; a last batch of fewer
-/// than four goes through the scalar code.
+/// geometry; a last batch of fewer than four goes through the scalar code.
 fn step_energies(
     lanes: ContactLanes,
     law: &ContactLaw,
@@ -279,9 +252,8 @@ fn step_energies(
     contacts: &[Corrected],
     shared: &[Shared],
     states: &[EnergyOf],
-) -> (Vec<f64>, Vec<PairResult>) {
+) -> Vec<f64> {
     let mut energies = vec![0.0; states.len()];
-    let mut results = vec![PairResult::default(); states.len()];
     let batches = states.len() / 4;
     let at = Energies {
         law,
@@ -290,35 +262,26 @@ fn step_energies(
         contacts,
         shared,
     };
-    let out = (&mut energies[..4 * batches], &mut results[..4 * batches]);
     match lanes {
         #[cfg(target_arch = "x86_64")]
         ContactLanes::Avx2 => {
             assert!(std::arch::is_x86_feature_detected!("avx2"));
             // SAFETY: the processor has AVX2 (checked above).
-            unsafe { energies_avx2(&at, &states[..4 * batches], out) }
+            unsafe { energies_avx2(&at, &states[..4 * batches], &mut energies) }
         }
-        _ => energies_in_lanes::<Portable>(&at, &states[..4 * batches], out),
+        _ => energies_in_lanes::<Portable>(&at, &states[..4 * batches], &mut energies),
     }
     let w = &m.angular_velocity;
     for (k, s) in states.iter().enumerate().skip(4 * batches) {
-        let Corrected { i, j, .. } = contacts[s.contact];
+        let Corrected { i, j } = contacts[s.contact];
         let Shared {
             geometry,
             normal_potential,
         } = &shared[s.contact];
         energies[k] =
             pair_step_energy_at(law, geometry, *normal_potential, w[i], w[j], dt, &s.state);
-        let (force, damping, torque_owner, torque_partner) =
-            pair_interaction_at(law, geometry, &s.state);
-        results[k] = PairResult {
-            force,
-            damping,
-            torque_owner,
-            torque_partner,
-        };
     }
-    (energies, results)
+    energies
 }
 
 /// What the step energies of the noted states read.
@@ -332,21 +295,14 @@ struct Energies<'a> {
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn energies_avx2(at: &Energies, states: &[EnergyOf], out: (&mut [f64], &mut [PairResult])) {
-    energies_in_lanes::<Avx2>(at, states, out)
+unsafe fn energies_avx2(at: &Energies, states: &[EnergyOf], energies: &mut [f64]) {
+    energies_in_lanes::<Avx2>(at, states, energies)
 }
 
 #[inline(always)]
-fn energies_in_lanes<S: Isa>(
-    at: &Energies,
-    states: &[EnergyOf],
-    (energies, results): (&mut [f64], &mut [PairResult]),
-) {
+fn energies_in_lanes<S: Isa>(at: &Energies, states: &[EnergyOf], energies: &mut [f64]) {
     let w = &at.m.angular_velocity;
-    let outputs = energies
-        .chunks_exact_mut(4)
-        .zip(results.chunks_exact_mut(4));
-    for (four, (out, results)) in states.chunks_exact(4).zip(outputs) {
+    for (four, out) in states.chunks_exact(4).zip(energies.chunks_exact_mut(4)) {
         let contact = |l: usize| at.contacts[four[l].contact];
         let shared = |l: usize| &at.shared[four[l].contact];
         let g = |l: usize| &shared(l).geometry;
@@ -359,7 +315,7 @@ fn energies_in_lanes<S: Isa>(
             damping: V4::<S>::gather(|l| g(l).damping),
             v_rel: V4::<S>::gather(|l| g(l).v_rel),
         };
-        let (e, (force, damping, torque_owner, torque_partner)) = step_energy_lanes(
+        let e = step_energy_lanes(
             at.law,
             at.dt,
             &geometry,
@@ -375,20 +331,11 @@ fn energies_in_lanes<S: Isa>(
             F4::<S>::new(std::array::from_fn(|l| four[l].state.twist)),
         );
         out.copy_from_slice(&e.0);
-        for (l, r) in results.iter_mut().enumerate() {
-            *r = PairResult {
-                force: force.lane(l),
-                damping: damping.lane(l),
-                torque_owner: torque_owner.lane(l),
-                torque_partner: torque_partner.lane(l),
-            };
-        }
     }
 }
 
 /// Lane twin of `pair_step_energy_at`: the contacts' geometry and JKR potential, the spins of
-/// owner and partner, the pointers and the twist; with the force and torques
-/// (`pair_interaction_at`) it evaluated on the way.
+/// owner and partner, the pointers and the twist.
 #[inline(always)]
 fn step_energy_lanes<S: Isa>(
     law: &ContactLaw,
@@ -398,7 +345,7 @@ fn step_energy_lanes<S: Isa>(
     [w1, w2]: [V4<S>; 2],
     [n1, n2]: [V4<S>; 2],
     twist: F4<S>,
-) -> (F4<S>, (V4<S>, V4<S>, V4<S>, V4<S>)) {
+) -> F4<S> {
     let k = &law.pair;
     let r = law.radius;
     let (f, fd, m1, m2) = pair_interaction_at_lanes(law, g, n1, n2, twist);
@@ -411,7 +358,7 @@ fn step_energy_lanes<S: Isa>(
         + 0.5 * k.k_r * xi.dot(xi)
         + 0.5 * k.k_s * zeta.dot(zeta)
         + 0.5 * k.k_t * twist * twist;
-    (potential + 0.5 * dt * work, (f, fd, m1, m2))
+    potential + 0.5 * dt * work
 }
 
 /// Lane twin of `jkr_potential_at_overlap_with` (x the radius ratio of overlap ratio d).

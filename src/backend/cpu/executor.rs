@@ -24,10 +24,6 @@ impl CpuEngine {
         if pass == Kernel::IntegrateKickWithWallSums {
             return self.integrate_kick_with_wall_sums();
         }
-        if pass != Kernel::Forces {
-            // Known results hold only from the contacts pass to the forces pass right after.
-            self.workspace.known_results.clear();
-        }
         let (im, ii) = (1.0 / self.law.mass, 1.0 / self.law.moment_of_inertia);
         let s = &mut self.state;
         let w = &mut self.workspace;

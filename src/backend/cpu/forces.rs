@@ -9,7 +9,6 @@
 //! thread adding contact by contact would sum them. So the forces do not depend on the thread
 //! count and equal the device's bits.
 
-use super::corrections_lanes::KnownResult;
 use super::forces_lanes::{chunk_forces, ContactLanes, OwnerChunk};
 use super::prefetch::worthwhile;
 use super::workspace::{chunk_offsets, split_at_offsets, split_len, Workspace, CHUNK};
@@ -113,8 +112,7 @@ pub fn forces_corrections(
 
 /// Every pair contact's force, owner by owner in parallel, into `workspace.pair_result`: one
 /// entry per contact, the owners' contacts one after another (`workspace.incoming`, the
-/// partner index, rebuilt here after contact events). The contacts the contacts pass just
-/// corrected are taken from `workspace.known_results` (used up here).
+/// partner index, rebuilt here after contact events).
 pub fn forces(
     law: &ContactLaw,
     monomers: &Monomers,
@@ -137,8 +135,6 @@ pub fn forces(
     let prefetching = worthwhile(table);
     let lanes = ContactLanes::chosen();
     let counts = &table.pair_count;
-    let known = std::mem::take(&mut workspace.known_results);
-    let none_known: Vec<KnownResult> = vec![];
     table
         .pair
         .par_chunks(CHUNK * slots)
@@ -146,7 +142,6 @@ pub fn forces(
         .with_min_len(split_len(n, CHUNK))
         .enumerate()
         .for_each(|(chunk, (rows, results))| {
-            let known = known.get(chunk).unwrap_or(&none_known);
             let first = chunk * CHUNK;
             let owners = OwnerChunk {
                 rows,
@@ -155,6 +150,6 @@ pub fn forces(
                 first,
                 prefetching,
             };
-            chunk_forces(lanes, law, monomers, owners, known, results);
+            chunk_forces(lanes, law, monomers, owners, results);
         });
 }

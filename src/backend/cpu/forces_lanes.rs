@@ -9,7 +9,6 @@
 //! code's to the bit, hence the GPU exact mode's; the tests hold them to that on contacts that
 //! need from zero to many iterations.
 
-use super::corrections_lanes::KnownResult;
 use super::forces::PairResult;
 #[cfg(target_arch = "x86_64")]
 use super::lanes::Avx2;
@@ -127,78 +126,37 @@ impl<R: std::ops::Deref<Target = [PairContact]>> OwnerChunk<'_, R> {
 /// The force pass's chunk: it reads the rows.
 pub type ForceChunk<'a> = OwnerChunk<'a, &'a [PairContact]>;
 
-/// The contacts of one chunk of owners into `results`, in owner and slot order, `lanes` wide;
-/// the contacts `known` holds (by owner and slot, ascending) are copied, not evaluated.
+/// The contacts of one chunk of owners into `results`, in owner and slot order, `lanes` wide.
 pub fn chunk_forces(
     lanes: ContactLanes,
     law: &ContactLaw,
     m: &Monomers,
     chunk: ForceChunk,
-    known: &[KnownResult],
     results: &mut [PairResult],
 ) {
     match lanes {
-        ContactLanes::Scalar => chunk_scalar(law, m, chunk, known, results),
-        ContactLanes::Portable => chunk_in_lanes::<Portable>(law, m, chunk, known, results),
+        ContactLanes::Scalar => chunk_scalar(law, m, chunk, results),
+        ContactLanes::Portable => chunk_in_lanes::<Portable>(law, m, chunk, results),
         #[cfg(target_arch = "x86_64")]
         ContactLanes::Avx2 => {
             assert!(std::arch::is_x86_feature_detected!("avx2"));
             // SAFETY: the processor has AVX2 (checked above).
-            unsafe { chunk_avx2(law, m, chunk, known, results) }
+            unsafe { chunk_avx2(law, m, chunk, results) }
         }
         #[cfg(not(target_arch = "x86_64"))]
-        ContactLanes::Avx2 => chunk_in_lanes::<Portable>(law, m, chunk, known, results),
-    }
-}
-
-/// Walks a chunk's known results alongside its contacts.
-struct KnownCursor<'a> {
-    known: &'a [KnownResult],
-}
-
-impl<'a> KnownCursor<'a> {
-    fn new(known: &'a [KnownResult]) -> Self {
-        KnownCursor { known }
-    }
-
-    /// The known result of slot `slot` of owner `owner`, if it is the next one.
-    #[inline(always)]
-    fn take(&mut self, owner: usize, slot: usize) -> Option<PairResult> {
-        let (k, rest) = self.known.split_first()?;
-        if k.owner as usize == owner && k.slot as usize == slot {
-            self.known = rest;
-            Some(k.result)
-        } else {
-            None
-        }
-    }
-
-    fn finished(&self) -> bool {
-        self.known.is_empty()
+        ContactLanes::Avx2 => chunk_in_lanes::<Portable>(law, m, chunk, results),
     }
 }
 
 /// One contact at a time: the reference the lanes are held to.
-fn chunk_scalar(
-    law: &ContactLaw,
-    m: &Monomers,
-    chunk: ForceChunk,
-    known: &[KnownResult],
-    results: &mut [PairResult],
-) {
-    let mut known = KnownCursor::new(known);
+fn chunk_scalar(law: &ContactLaw, m: &Monomers, chunk: ForceChunk, results: &mut [PairResult]) {
     let mut out = results.iter_mut();
     for k in 0..chunk.counts.len() {
         chunk.prefetch_ahead(m, k, false);
-        let i = chunk.first + k;
-        for (slot, c) in chunk.rows[chunk.contacts_of(k)].iter().enumerate() {
-            let result = known
-                .take(i, slot)
-                .unwrap_or_else(|| scalar_result(law, m, i, c));
-            *out.next().expect("a result per contact") = result;
+        for c in &chunk.rows[chunk.contacts_of(k)] {
+            *out.next().expect("a result per contact") = scalar_result(law, m, chunk.first + k, c);
         }
     }
-    assert!(known.finished(), "a known result of no contact");
 }
 
 fn scalar_result(law: &ContactLaw, m: &Monomers, i: usize, c: &PairContact) -> PairResult {
@@ -220,10 +178,9 @@ unsafe fn chunk_avx2(
     law: &ContactLaw,
     m: &Monomers,
     chunk: ForceChunk,
-    known: &[KnownResult],
     results: &mut [PairResult],
 ) {
-    chunk_in_lanes::<Avx2>(law, m, chunk, known, results)
+    chunk_in_lanes::<Avx2>(law, m, chunk, results)
 }
 
 /// The chunk's contacts in batches of four; a last batch of fewer goes one at a time.
@@ -232,40 +189,30 @@ fn chunk_in_lanes<S: Isa>(
     law: &ContactLaw,
     m: &Monomers,
     chunk: ForceChunk,
-    known: &[KnownResult],
     results: &mut [PairResult],
 ) {
     let rows = chunk.rows;
-    let mut known = KnownCursor::new(known);
     let mut owner = [0usize; 4];
     let mut slot = [0usize; 4];
-    let mut at = [0usize; 4];
     let mut filled = 0;
     let mut written = 0;
     for k in 0..chunk.counts.len() {
         chunk.prefetch_ahead(m, k, false);
-        let i = chunk.first + k;
-        for (s, row_slot) in chunk.contacts_of(k).enumerate() {
-            if let Some(result) = known.take(i, s) {
-                results[written] = result;
-                written += 1;
-                continue;
-            }
-            owner[filled] = i;
-            slot[filled] = row_slot;
-            at[filled] = written;
-            written += 1;
+        for s in chunk.contacts_of(k) {
+            owner[filled] = chunk.first + k;
+            slot[filled] = s;
             filled += 1;
             if filled == 4 {
-                four_results::<S>(law, m, rows, &owner, &slot, &at, results);
+                let batch = &mut results[written..written + 4];
+                four_results::<S>(law, m, rows, &owner, &slot, batch);
+                written += 4;
                 filled = 0;
             }
         }
     }
     for l in 0..filled {
-        results[at[l]] = scalar_result(law, m, owner[l], &rows[slot[l]]);
+        results[written + l] = scalar_result(law, m, owner[l], &rows[slot[l]]);
     }
-    assert!(known.finished(), "a known result of no contact");
 }
 
 #[inline(always)]
@@ -275,8 +222,7 @@ fn four_results<S: Isa>(
     rows: &[PairContact],
     owner: &[usize; 4],
     slot: &[usize; 4],
-    at: &[usize; 4],
-    results: &mut [PairResult],
+    out: &mut [PairResult],
 ) {
     let (p, v) = (&m.position, &m.velocity);
     let c = [
@@ -296,8 +242,8 @@ fn four_results<S: Isa>(
     let g = pair_geometry_lanes(law, x1, x2, v1, v2);
     let (force, damping, torque_owner, torque_partner) =
         pair_interaction_at_lanes(law, &g, n1, n2, twist);
-    for (l, &a) in at.iter().enumerate() {
-        results[a] = PairResult {
+    for (l, out) in out.iter_mut().enumerate() {
+        *out = PairResult {
             force: force.lane(l),
             damping: damping.lane(l),
             torque_owner: torque_owner.lane(l),

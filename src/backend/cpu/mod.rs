@@ -67,7 +67,6 @@ impl DerefMut for CpuEngine {
     fn deref_mut(&mut self) -> &mut State {
         // The caller may change the contact table: index it again before the next forces.
         self.workspace.partner_index_current = false;
-        self.workspace.known_results.clear();
         &mut self.state
     }
 }

@@ -1,7 +1,6 @@
 //! Scratch the CPU passes reuse from step to step: per-slot results, the partner index, and the
 //! fixed chunking that makes every sum independent of the thread count.
 
-use super::corrections_lanes::KnownResult;
 use super::forces::PairResult;
 use super::partner_index::PartnerIndex;
 use super::walls::WallResult;
@@ -88,10 +87,6 @@ pub struct Workspace {
     pub wall_damping_partials: Vec<DVec3>,
     /// The monomers' damping work of the step, summed by `wall_forces`.
     pub damping_work: f64,
-    /// Per chunk of owners, by owner and slot: the force and torques of the pair contacts the
-    /// contacts pass corrected, which the forces pass right after it takes instead of
-    /// evaluating them again. Any other pass clears them (`CpuEngine::run_pass`).
-    pub known_results: Vec<Vec<KnownResult>>,
 }
 
 impl Workspace {
