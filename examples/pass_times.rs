@@ -1,23 +1,50 @@
 //! Microseconds per step of each pass of the step script on one thread, on the benchmark's
 //! warmed RBD sample: `cargo run --release --example pass_times -- 100000`. Finer than the
-//! bench's five groups, for finding which pass a change moved.
+//! bench's five groups, for finding which pass a change moved. With a filling factor and a
+//! directory, `-- 10000 0.45 bench`, it starts from the sample `dustdem bench --samples 0.45
+//! --prepare-speed 0.25 --out bench` compressed (reusing its stored state, else preparing it);
+//! a third argument sets the steps timed (default 60).
 use dustdem::backend::script::STEP;
+use dustdem::bench::options::{Options, SampleState};
+use std::path::PathBuf;
 use std::time::Instant;
 fn main() {
-    let n: usize = std::env::args()
-        .nth(1)
-        .map(|s| s.parse().unwrap())
-        .unwrap_or(100000);
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let n: usize = args.first().map(|s| s.parse().unwrap()).unwrap_or(100000);
     let config = dustdem::bench::benchmark_config(n).unwrap();
-    let (mut e, _, _) = dustdem::bench::benchmark_engine(&config).unwrap();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()
         .unwrap();
+    let mut e = match (args.get(1), args.get(2)) {
+        (Some(phi), Some(out)) => {
+            let options = Options {
+                prepare_speed_m_s: 0.25,
+                out: PathBuf::from(out),
+                ..Options::default()
+            };
+            let sample = SampleState::Compressed {
+                phi: phi.parse().unwrap(),
+            };
+            let lammps_dir = PathBuf::from(out).join("lammps");
+            let mut notes = vec![];
+            dustdem::bench::prepare::starting_engine(
+                &config,
+                sample,
+                &options,
+                &pool,
+                &lammps_dir,
+                &mut notes,
+                &|p| eprintln!("{p}"),
+            )
+            .unwrap()
+        }
+        _ => dustdem::bench::benchmark_engine(&config).unwrap().0,
+    };
+    let steps: usize = args.get(3).map(|s| s.parse().unwrap()).unwrap_or(60);
     pool.install(|| {
-        e.run(300).unwrap();
+        e.run(100).unwrap();
         let mut t = vec![0.0; STEP.len()];
-        let steps = 60;
         for _ in 0..steps {
             for (k, &p) in STEP.iter().enumerate() {
                 let c = Instant::now();
