@@ -1,7 +1,8 @@
 // requires: bindings positions normal damping rolling sliding twisting wall math
 //
 // One contact's forces, torques, potential and step energy: the twins of pair_interaction,
-// pair_contact_potential, pair_step_energy, wall_interaction, wall_contact_potential and
+// pair_contact_potential, pair_step_energy, pair_tangential_step_energy, wall_interaction,
+// wall_contact_potential and
 // wall_step_energy in src/state/interaction.rs, same operations in the same order. Contact history is passed by value
 // (n1, n2 or anchor, twist) because it lives in separate arrays on the device.
 
@@ -83,6 +84,35 @@ fn pair_step_energy(i: u32, j: u32, n1: vec3<f64>, n2: vec3<f64>, twist: f64) ->
         + vec_dot(it.m1, angular_velocity[i].xyz)
         + vec_dot(it.m2, angular_velocity[j].xyz);
     return pair_contact_potential(centres, n1, n2, twist) + 0.5lf * params.dt * work;
+}
+
+// The part of a pair contact's step energy that an inelastic correction changes: the rolling,
+// sliding and twisting potentials plus half the work of their force and torques over the step.
+// Twin of pair_tangential_step_energy (and of the pair_frame it takes) in
+// src/state/interaction.rs.
+fn pair_tangential_step_energy(i: u32, j: u32, n1: vec3<f64>, n2: vec3<f64>, twist: f64) -> f64 {
+    let k = params.pair;
+    let r = params.radius;
+    let centres = pair_centres(i, j);
+    let d = centres.x1 - centres.x2;
+    let distance = vec_length(d);
+    let nc = d / distance;
+    let v_rel = velocity[i].xyz - velocity[j].xyz;
+    let xi = rolling_displacement(n1, n2, k.reduced_radius);
+    let zeta = sliding_displacement(n1, n2, nc, r, r);
+    let slide = sliding_force(zeta, n1, n2, nc, r, r, distance, k.k_s);
+    let twist_torque = twisting_torque(twist, nc, k.k_t);
+    let torque1 = rolling_torque(n1, xi, k.reduced_radius, k.k_r)
+        + sliding_torque(n1, zeta, r, k.k_s, 1.0lf)
+        + twist_torque;
+    let torque2 = rolling_torque(n2, xi, k.reduced_radius, k.k_r)
+        + sliding_torque(n2, zeta, r, k.k_s, -1.0lf)
+        - twist_torque;
+    let work = vec_dot(slide, v_rel)
+        + vec_dot(torque1, angular_velocity[i].xyz)
+        + vec_dot(torque2, angular_velocity[j].xyz);
+    return rolling_potential(xi, k.k_r) + sliding_potential(zeta, k.k_s)
+        + twisting_potential(twist, k.k_t) + 0.5lf * params.dt * work;
 }
 
 // The monomer in `frame` (engine/positions.wgsl): x, the wall as seen there and the overlap;

@@ -21,16 +21,17 @@ fn apply_inelastic_limits(i: u32) {
         var p2 = load_pair_n2(idx);
 
         let nc = vec_normalize(x1 - x2);
-        // The step energy of the contact as it stands: a correction's "after" is the next
-        // one's "before" (`current` in the CPU twin).
+        // The tangential step energy of the contact as it stands (a correction changes no
+        // other part): a correction's "after" is the next one's "before" (`current` in the
+        // CPU twin).
         var current = 0.0lf;
         var known = false;
         let rolled = rolling_correction_of(p1, p2, k.reduced_radius, k.xi_crit);
         if rolled.changed {
-            let before = pair_step_energy(i, j, p1.n, p2.n, p1.twist);
+            let before = pair_tangential_step_energy(i, j, p1.n, p2.n, p1.twist);
             p1 = rolled.p1;
             p2 = rolled.p2;
-            current = pair_step_energy(i, j, p1.n, p2.n, p1.twist);
+            current = pair_tangential_step_energy(i, j, p1.n, p2.n, p1.twist);
             known = true;
             add_tally(i, TALLY_ROLLING, before - current);
         }
@@ -38,11 +39,11 @@ fn apply_inelastic_limits(i: u32) {
         if slid.changed {
             var before = current;
             if !known {
-                before = pair_step_energy(i, j, p1.n, p2.n, p1.twist);
+                before = pair_tangential_step_energy(i, j, p1.n, p2.n, p1.twist);
             }
             p1 = slid.p1;
             p2 = slid.p2;
-            current = pair_step_energy(i, j, p1.n, p2.n, p1.twist);
+            current = pair_tangential_step_energy(i, j, p1.n, p2.n, p1.twist);
             known = true;
             add_tally(i, TALLY_SLIDING, before - current);
         }
@@ -50,10 +51,10 @@ fn apply_inelastic_limits(i: u32) {
         if twisted.changed {
             var before = current;
             if !known {
-                before = pair_step_energy(i, j, p1.n, p2.n, p1.twist);
+                before = pair_tangential_step_energy(i, j, p1.n, p2.n, p1.twist);
             }
             p1 = with_twist(p1, twisted.twist);
-            add_tally(i, TALLY_TWISTING, before - pair_step_energy(i, j, p1.n, p2.n, p1.twist));
+            add_tally(i, TALLY_TWISTING, before - pair_tangential_step_energy(i, j, p1.n, p2.n, p1.twist));
         }
         store_pair_n1(idx, p1);
         store_pair_n2(idx, p2);

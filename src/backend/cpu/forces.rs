@@ -14,9 +14,7 @@ use super::prefetch::worthwhile;
 use super::workspace::{chunk_offsets, split_at_offsets, split_len, Workspace, CHUNK};
 use crate::backend::script::{OWNER_CORRECTIONS, OWNER_INDEX};
 use crate::model::{rolling, sliding, twisting, ContactLaw};
-use crate::state::interaction::{
-    pair_geometry, pair_normal_potential, pair_step_energy_at, PairGeometry,
-};
+use crate::state::interaction::{pair_frame, pair_tangential_step_energy, PairFrame};
 use crate::state::{ContactTable, Dissipation, Monomers, PairContact};
 use glam::DVec3;
 use rayon::prelude::*;
@@ -34,10 +32,10 @@ pub struct PairResult {
 /// Applies the inelastic limits to one contact in the order rolling, sliding, twisting.
 ///
 /// Each correction books its dissipation as the drop of the contact's step energy. A correction
-/// moves pointers and twist, never the monomers, so the energies share the contact's
-/// [`PairGeometry`] and JKR potential, evaluated at the first correction only (most contacts of
-/// a loose sample need none, and then nothing extra is evaluated), and one correction's "after"
-/// is the next one's "before".
+/// moves pointers and twist, never the monomers, so only the tangential part of that energy
+/// changes ([`pair_tangential_step_energy`]); its states share the contact's [`PairFrame`],
+/// made at the first correction only (most contacts of a loose sample need none, and then
+/// nothing extra is evaluated), and one correction's "after" is the next one's "before".
 pub fn apply_inelastic_limits(
     law: &ContactLaw,
     monomers: &Monomers,
@@ -55,13 +53,10 @@ pub fn apply_inelastic_limits(
         &monomers.angular_velocity,
     );
     let nc = (p[i] - p[j]).normalize();
-    let mut shared: Option<(PairGeometry, f64)> = None;
+    let mut frame: Option<PairFrame> = None;
     let mut energy = |c: &PairContact| {
-        let (g, u) = *shared.get_or_insert_with(|| {
-            let g = pair_geometry(law, p[i], p[j], v[i], v[j]);
-            (g, pair_normal_potential(law, &g))
-        });
-        pair_step_energy_at(law, &g, u, w[i], w[j], dt, c)
+        let f = *frame.get_or_insert_with(|| pair_frame(p[i], p[j], v[i], v[j]));
+        pair_tangential_step_energy(law, &f, w[i], w[j], dt, c)
     };
     // The step energy of the contact as it stands.
     let mut current = None;

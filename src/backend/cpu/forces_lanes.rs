@@ -321,16 +321,44 @@ pub fn pair_interaction_at_lanes<S: Isa>(
     n2: V4<S>,
     twist: F4<S>,
 ) -> (V4<S>, V4<S>, V4<S>, V4<S>) {
+    let t = pair_tangential_lanes(law, g.nc, g.distance, n1, n2, twist);
+    (
+        g.normal + g.damping + t.slide,
+        g.damping,
+        t.torque1,
+        t.torque2,
+    )
+}
+
+/// The rolling, sliding and twisting part of four contacts' interaction, with the
+/// displacements it was made from.
+pub struct TangentialLanes<S: Isa> {
+    pub slide: V4<S>,
+    pub torque1: V4<S>,
+    pub torque2: V4<S>,
+    pub xi: V4<S>,
+    pub zeta: V4<S>,
+}
+
+/// Lane twin of `pair_tangential` (state/interaction.rs).
+#[inline(always)]
+pub fn pair_tangential_lanes<S: Isa>(
+    law: &ContactLaw,
+    nc: V4<S>,
+    distance: F4<S>,
+    n1: V4<S>,
+    n2: V4<S>,
+    twist: F4<S>,
+) -> TangentialLanes<S> {
     let k = &law.pair;
     let r = law.radius;
-    let nc = g.nc;
     // rolling_displacement, sliding_displacement, sliding_force, twisting_torque
     let xi = (n1 + n2).times(k.reduced_radius);
     let p = n1.times(r) - n2.times(r);
     let zeta = p - nc.scale(p.dot(nc));
     let slide = zeta
         .times(-k.k_s)
-        .scale((n2.times(r) - n1.times(r)).dot(nc) / g.distance);
+        .scale((n2.times(r) - n1.times(r)).dot(nc) / distance);
     let twist_torque = nc.scale(-k.k_t * twist);
     // rolling_torque and sliding_torque (sign +1 for 1, −1 for 2)
     let rolling = -k.reduced_radius * k.k_r;
@@ -339,7 +367,13 @@ pub fn pair_interaction_at_lanes<S: Isa>(
     let sliding_2 = r * k.k_s;
     let torque1 = n1.cross(xi).times(rolling) + n1.cross(zeta).times(sliding_1) + twist_torque;
     let torque2 = n2.cross(xi).times(rolling) + n2.cross(zeta).times(sliding_2) - twist_torque;
-    (g.normal + g.damping + slide, g.damping, torque1, torque2)
+    TangentialLanes {
+        slide,
+        torque1,
+        torque2,
+        xi,
+        zeta,
+    }
 }
 
 /// Lane twin of `jkr_contact_radius_ratio`: Newton's method on every lane at once, each lane
