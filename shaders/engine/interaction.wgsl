@@ -2,7 +2,7 @@
 //
 // One contact's forces, torques, potential and step energy: the twins of pair_interaction,
 // pair_contact_potential, pair_step_energy, pair_tangential_step_energy, wall_interaction,
-// wall_contact_potential and
+// wall_contact_potential, wall_tangential_step_energy and
 // wall_step_energy in src/state/interaction.rs, same operations in the same order. Contact history is passed by value
 // (n1, n2 or anchor, twist) because it lives in separate arrays on the device.
 
@@ -157,6 +157,26 @@ fn wall_step_energy(i: u32, wall: Wall, n1: vec3<f64>, anchor: WallAnchor, twist
     let it = wall_interaction(frame, v, n1, p, twist);
     let work = vec_dot(it.f - it.fd, v - wall.velocity.xyz) + vec_dot(it.m, angular_velocity[i].xyz);
     return wall_contact_potential(frame, n1, p, twist) + 0.5lf * params.dt * work;
+}
+
+// Wall analogue of pair_tangential_step_energy: twin of wall_tangential_step_energy in
+// src/state/interaction.rs (in the wall's frame, as wall_step_energy).
+fn wall_tangential_step_energy(i: u32, wall: Wall, n1: vec3<f64>, anchor: WallAnchor, twist: f64) -> f64 {
+    let frame = wall_frame(i, wall);
+    let p = anchor_into_frame(anchor, frame);
+    let v = velocity[i].xyz;
+    let k = wall.k;
+    let r = params.radius;
+    let n = wall.normal.xyz;
+    let xi = wall_rolling_displacement(n1, n, r);
+    let zeta = wall_sliding_displacement(frame.x, n1, r, p, n);
+    let torque = rolling_torque(n1, xi, r, k.k_r)
+        + sliding_torque(n1, zeta, r, k.k_s, 1.0lf)
+        + twisting_torque(twist, n, k.k_t);
+    let work = vec_dot(wall_sliding_force(zeta, k.k_s), v - wall.velocity.xyz)
+        + vec_dot(torque, angular_velocity[i].xyz);
+    return rolling_potential(xi, k.k_r) + sliding_potential(zeta, k.k_s)
+        + twisting_potential(twist, k.k_t) + 0.5lf * params.dt * work;
 }
 
 // Whether a contact needs any inelastic correction (apply_inelastic_limits in

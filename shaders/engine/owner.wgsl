@@ -107,8 +107,9 @@ fn wall_contacts_of(i: u32) {
         }
         if changed {
             let kept = anchor_out_of_frame(anchor, frame);
-            let before = wall_step_energy(i, wall, n1_before, anchor_out_of_frame(anchor_before, frame), twist_before);
-            add_tally(i, TALLY_WALLS, before - wall_step_energy(i, wall, n1, kept, twist));
+            // The tangential step energy: a correction changes no other part of it.
+            let before = wall_tangential_step_energy(i, wall, n1_before, anchor_out_of_frame(anchor_before, frame), twist_before);
+            add_tally(i, TALLY_WALLS, before - wall_tangential_step_energy(i, wall, n1, kept, twist));
             wall_n1[idx] = replaced_contact_pointer(stored, n1, twist);
             wall_anchor[idx] = kept;
         }

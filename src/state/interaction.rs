@@ -261,6 +261,20 @@ pub fn wall_interaction_at(
     wall: &Wall,
     c: &WallContact,
 ) -> (DVec3, DVec3, DVec3) {
+    let t = wall_tangential(law, x, wall, c);
+    (g.normal + g.damping + t.slide, g.damping, t.torque)
+}
+
+/// The rolling, sliding and twisting part of a wall contact's interaction, with the
+/// displacements it was made from.
+struct WallTangential {
+    slide: DVec3,
+    torque: DVec3,
+    xi: DVec3,
+    zeta: DVec3,
+}
+
+fn wall_tangential(law: &ContactLaw, x: DVec3, wall: &Wall, c: &WallContact) -> WallTangential {
     let k = &wall.constants;
     let r = law.radius;
     let n = wall.normal;
@@ -269,11 +283,31 @@ pub fn wall_interaction_at(
     let torque = rolling::rolling_torque(c.n1, xi, r, k.k_r)
         + sliding::sliding_torque(c.n1, zeta, r, k.k_s, 1.0)
         + twisting::twisting_torque(c.twist, n, k.k_t);
-    (
-        g.normal + g.damping + wall_law::wall_sliding_force(zeta, k.k_s),
-        g.damping,
+    WallTangential {
+        slide: wall_law::wall_sliding_force(zeta, k.k_s),
         torque,
-    )
+        xi,
+        zeta,
+    }
+}
+
+/// Wall analogue of [`pair_tangential_step_energy`]: the rolling, sliding and twisting
+/// potentials (in that order) plus half the work of their force (relative to the moving wall)
+/// and torque over the step, the part of the step energy a correction changes.
+pub fn wall_tangential_step_energy(
+    law: &ContactLaw,
+    m: &WallMotion,
+    wall: &Wall,
+    dt: f64,
+    c: &WallContact,
+) -> f64 {
+    let k = &wall.constants;
+    let t = wall_tangential(law, m.x, wall, c);
+    let work = t.slide.dot(m.v - wall.velocity) + t.torque.dot(m.w);
+    rolling::rolling_potential(t.xi, k.k_r)
+        + sliding::sliding_potential(t.zeta, k.k_s)
+        + twisting::twisting_potential(c.twist, k.k_t)
+        + 0.5 * dt * work
 }
 
 /// Potential energy held by a monomer–wall contact [erg].
@@ -371,60 +405,4 @@ pub fn beyond_limits(law: &ContactLaw, x1: DVec3, x2: DVec3, c: &PairContact) ->
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::material::Material;
-    use crate::model::ModelOptions;
-
-    /// Two monomers pressed together, moving and spinning, with a contact rolled, slid and
-    /// twisted past every limit.
-    fn rolled_contact() -> (ContactLaw, Monomers, PairContact) {
-        let law = ContactLaw::new(&Material::silicate(), &ModelOptions::default());
-        let r = law.radius;
-        let mut m = Monomers::new(vec![DVec3::ZERO, DVec3::new(2.0 * r - 3e-8, 1e-9, 0.0)]);
-        m.velocity = vec![DVec3::new(3.0, -1.0, 2.0), DVec3::new(-2.0, 0.5, 1.0)];
-        m.angular_velocity = vec![DVec3::new(1e4, 2e4, -3e4), DVec3::new(-2e4, 1e4, 5e3)];
-        let tilt = DVec3::new(0.0, 0.6, 0.8) * 0.05;
-        let c = PairContact {
-            partner: 1,
-            n1: (DVec3::X + tilt).normalize(),
-            n2: (-DVec3::X + tilt * 0.3).normalize(),
-            twist: 3.0 * law.pair.phi_crit,
-        };
-        (law, m, c)
-    }
-
-    #[test]
-    fn a_correction_drops_the_tangential_step_energy_by_what_it_drops_the_whole_one() {
-        let (law, m, before) = rolled_contact();
-        let k = &law.pair;
-        let (p, v, w) = (&m.position, &m.velocity, &m.angular_velocity);
-        let frame = pair_frame(p[0], p[1], v[0], v[1]);
-        let (n1, n2) =
-            rolling::rolling_correction(before.n1, before.n2, k.reduced_radius, k.xi_crit)
-                .expect("rolled past the limit");
-        let twist = twisting::twisting_correction(before.twist, k.phi_crit).expect("twisted");
-        let after = PairContact {
-            n1,
-            n2,
-            twist,
-            ..before
-        };
-        let dt = 3e-10;
-        let whole =
-            pair_step_energy(&law, &m, dt, 0, &before) - pair_step_energy(&law, &m, dt, 0, &after);
-        let tangential = pair_tangential_step_energy(&law, &frame, w[0], w[1], dt, &before)
-            - pair_tangential_step_energy(&law, &frame, w[0], w[1], dt, &after);
-        // The JKR and damping terms cancel exactly in the whole drop except for their rounding,
-        // a few units in the last place of the whole energy.
-        let scale = pair_step_energy(&law, &m, dt, 0, &before).abs();
-        assert!(
-            tangential > 1e3 * f64::EPSILON * scale,
-            "{tangential:e} against {scale:e}"
-        );
-        assert!(
-            (whole - tangential).abs() <= 16.0 * f64::EPSILON * scale,
-            "whole {whole:e}, tangential {tangential:e}, scale {scale:e}"
-        );
-    }
-}
+mod tests;

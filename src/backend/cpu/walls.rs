@@ -14,8 +14,7 @@ use super::workspace::{split_len, Workspace, CHUNK};
 use crate::backend::script::{OWNER_INDEX, OWNER_WALLS};
 use crate::model::{twisting, wall as wall_law, ContactLaw};
 use crate::state::interaction::{
-    wall_geometry, wall_interaction_at, wall_normal_potential, wall_step_energy_at, WallGeometry,
-    WallMotion,
+    wall_geometry, wall_interaction_at, wall_tangential_step_energy, WallMotion,
 };
 use crate::state::reduction::{reduce_walls_block, reduce_walls_final_from, REDUCE_BLOCK};
 use crate::state::{ContactTable, Dissipation, Monomers, Wall, WallContact};
@@ -30,15 +29,13 @@ pub struct WallResult {
     pub torque: DVec3,
 }
 
-/// Inelastic limits of a wall contact whose [`WallGeometry`] is known (everything dissipated
-/// goes to the `walls` channel): the step
-/// energies before and after share it (a correction moves pointer, anchor and twist, never the
-/// monomer), and they are evaluated only where a correction changed the contact.
-#[allow(clippy::too_many_arguments)]
-pub fn apply_wall_inelastic_limits_at(
+/// Inelastic limits of a wall contact (everything dissipated goes to the `walls` channel),
+/// booked as the drop of the contact's tangential step energy
+/// ([`wall_tangential_step_energy`]: a correction moves pointer, anchor and twist, never the
+/// monomer, so nothing else changes), evaluated only where a correction changed the contact.
+pub fn apply_wall_inelastic_limits(
     law: &ContactLaw,
     monomers: &Monomers,
-    g: &WallGeometry,
     dt: f64,
     i: usize,
     wall: &Wall,
@@ -72,9 +69,8 @@ pub fn apply_wall_inelastic_limits_at(
             v: monomers.velocity[i],
             w: monomers.angular_velocity[i],
         };
-        let u = wall_normal_potential(radius, x, wall);
-        let before = wall_step_energy_at(law, g, u, &motion, wall, dt, &original);
-        tally.walls += before - wall_step_energy_at(law, g, u, &motion, wall, dt, c);
+        let before = wall_tangential_step_energy(law, &motion, wall, dt, &original);
+        tally.walls += before - wall_tangential_step_energy(law, &motion, wall, dt, c);
     }
 }
 
@@ -95,8 +91,8 @@ pub fn wall_contacts_of(
     let x = monomers.position[i];
     for (c, out) in rows.iter_mut().zip(results) {
         let wall = &walls[c.wall as usize];
+        apply_wall_inelastic_limits(law, monomers, dt, i, wall, c, tally);
         let g = wall_geometry(law, x, monomers.velocity[i], wall);
-        apply_wall_inelastic_limits_at(law, monomers, &g, dt, i, wall, c, tally);
         let (force, damping, torque) = wall_interaction_at(law, &g, x, wall, c);
         *out = WallResult {
             force,
