@@ -1,9 +1,10 @@
-//! The pair contacts' inelastic corrections of one chunk of owners, their step energies four
-//! at a time: `apply_inelastic_limits` (forces.rs) split into its three parts.
+//! The pair contacts' inelastic corrections of one chunk of owners, four contacts at a time:
+//! `apply_inelastic_limits` (forces.rs) split into its three parts.
 //!
-//! 1. Per contact, in order, the corrections change pointers and twist exactly as the scalar
-//!    code does (they need no energy), and every state whose step energy the scalar code
-//!    evaluates is noted: the contact before its first correction and after each one.
+//! 1. The rolling and sliding corrections found four contacts at a time (limits_lanes.rs),
+//!    then, per contact in order, applied with the twisting one exactly as the scalar code
+//!    applies them (they need no energy), and every state whose step energy the scalar code
+//!    evaluates noted: the contact before its first correction and after each one.
 //! 2. Those step energies' tangential parts (`pair_tangential_step_energy`: a correction
 //!    changes nothing else): each corrected contact's frame (distance, normal, relative
 //!    velocity), shared between its states as the scalar code shares it, then the energies,
@@ -19,9 +20,11 @@ use super::forces_lanes::{pair_tangential_lanes, ContactLanes};
 #[cfg(target_arch = "x86_64")]
 use super::lanes::Avx2;
 use super::lanes::{Isa, Portable, F4, V4};
+use super::limits_lanes::{rolling_correction_lanes, sliding_correction_lanes};
 use crate::model::{rolling, sliding, twisting, ContactLaw};
 use crate::state::interaction::{pair_frame, pair_tangential_step_energy, PairFrame};
 use crate::state::{Dissipation, Monomers, PairContact};
+use glam::DVec3;
 
 /// One state whose step energy the booking needs: contact `contact` of the chunk's corrected
 /// contacts as it stood then.
@@ -65,21 +68,25 @@ pub fn chunk_corrections<'a>(
         }
         return;
     }
-    let mut states = vec![];
-    let mut contacts = vec![];
-    let mut bookings = vec![];
+    let mut pending: Vec<(usize, &mut PairContact)> = vec![];
     for (i, row) in rows {
-        for c in row {
-            let contact = Corrected {
-                i,
-                j: c.partner as usize,
-            };
-            if let Some(b) = correct(law, m, contact, contacts.len(), c, &mut states) {
-                contacts.push(contact);
-                bookings.push(b);
-            }
-        }
+        pending.extend(row.iter_mut().map(|c| (i, c)));
     }
+    let mut noted = Noted::default();
+    match lanes {
+        #[cfg(target_arch = "x86_64")]
+        ContactLanes::Avx2 => {
+            assert!(std::arch::is_x86_feature_detected!("avx2"));
+            // SAFETY: the processor has AVX2 (checked above).
+            unsafe { correct_avx2(law, m, &mut pending, &mut noted) }
+        }
+        _ => correct_in_lanes::<Portable>(law, m, &mut pending, &mut noted),
+    }
+    let Noted {
+        states,
+        contacts,
+        bookings,
+    } = noted;
     let (p, v) = (&m.position, &m.velocity);
     let frames: Vec<PairFrame> = contacts
         .iter()
@@ -106,56 +113,131 @@ pub fn chunk_corrections<'a>(
     }
 }
 
-/// `apply_inelastic_limits` without the energies: the corrections applied to `c`, the states
-/// to evaluate pushed on `states`; `None` where nothing was corrected.
-fn correct(
+/// What the corrections noted for their step energies: every state to evaluate, in order,
+/// the corrected contacts, and which corrections each had.
+#[derive(Default)]
+struct Noted {
+    states: Vec<EnergyOf>,
+    contacts: Vec<Corrected>,
+    bookings: Vec<Booking>,
+}
+
+/// The rolling and sliding corrections one contact needs (sliding on the pointers the rolling
+/// correction left), found four at a time or one at a time.
+struct Found {
+    rolled: Option<(DVec3, DVec3)>,
+    slid: Option<(DVec3, DVec3)>,
+}
+
+impl Found {
+    /// The scalar code's: `rolling_correction`, then `sliding_correction`.
+    fn one_at_a_time(law: &ContactLaw, m: &Monomers, i: usize, c: &PairContact) -> Found {
+        let k = &law.pair;
+        let r = law.radius;
+        let p = &m.position;
+        let nc = (p[i] - p[c.partner as usize]).normalize();
+        let rolled = rolling::rolling_correction(c.n1, c.n2, k.reduced_radius, k.xi_crit);
+        let (a, b) = rolled.unwrap_or((c.n1, c.n2));
+        let slid = sliding::sliding_correction(a, b, nc, r, r, k.zeta_crit);
+        Found { rolled, slid }
+    }
+}
+
+impl Noted {
+    /// `apply_inelastic_limits` without the energies: the corrections `found` (and the
+    /// twisting one) applied to contact `c` of owner `i`, the states to evaluate noted.
+    fn apply(&mut self, law: &ContactLaw, i: usize, c: &mut PairContact, found: Found) {
+        let contact = self.contacts.len();
+        let first = self.states.len();
+        let before = *c;
+        let mut booking = Booking {
+            first,
+            rolled: false,
+            slid: false,
+            twisted: false,
+        };
+        // The state before the first correction, then the state after each.
+        let corrected = |c: &PairContact, states: &mut Vec<EnergyOf>| {
+            if states.len() == first {
+                states.push(EnergyOf {
+                    contact,
+                    state: before,
+                });
+            }
+            states.push(EnergyOf { contact, state: *c });
+        };
+        if let Some((n1, n2)) = found.rolled {
+            c.n1 = n1;
+            c.n2 = n2;
+            corrected(c, &mut self.states);
+            booking.rolled = true;
+        }
+        if let Some((n1, n2)) = found.slid {
+            c.n1 = n1;
+            c.n2 = n2;
+            corrected(c, &mut self.states);
+            booking.slid = true;
+        }
+        if let Some(twist) = twisting::twisting_correction(c.twist, law.pair.phi_crit) {
+            c.twist = twist;
+            corrected(c, &mut self.states);
+            booking.twisted = true;
+        }
+        if booking.rolled || booking.slid || booking.twisted {
+            let j = c.partner as usize;
+            self.contacts.push(Corrected { i, j });
+            self.bookings.push(booking);
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn correct_avx2(
     law: &ContactLaw,
     m: &Monomers,
-    Corrected { i, j }: Corrected,
-    contact: usize,
-    c: &mut PairContact,
-    states: &mut Vec<EnergyOf>,
-) -> Option<Booking> {
+    pending: &mut [(usize, &mut PairContact)],
+    noted: &mut Noted,
+) {
+    correct_in_lanes::<Avx2>(law, m, pending, noted)
+}
+
+/// The corrections of the `pending` contacts (owner, contact), in order: their rolling and
+/// sliding corrections found four at a time (a last batch of fewer one at a time), then
+/// applied contact by contact.
+#[inline(always)]
+fn correct_in_lanes<S: Isa>(
+    law: &ContactLaw,
+    m: &Monomers,
+    pending: &mut [(usize, &mut PairContact)],
+    noted: &mut Noted,
+) {
     let k = &law.pair;
-    let r = law.radius;
     let p = &m.position;
-    let nc = (p[i] - p[j]).normalize();
-    let first = states.len();
-    let before = *c;
-    let mut booking = Booking {
-        first,
-        rolled: false,
-        slid: false,
-        twisted: false,
-    };
-    // The state before the first correction, then the state after each.
-    let corrected = |c: &PairContact, states: &mut Vec<EnergyOf>| {
-        if states.len() == first {
-            states.push(EnergyOf {
-                contact,
-                state: before,
-            });
+    let mut batches = pending.chunks_exact_mut(4);
+    for four in &mut batches {
+        let x1 = V4::<S>::gather(|l| p[four[l].0]);
+        let x2 = V4::<S>::gather(|l| p[four[l].1.partner as usize]);
+        let nc = (x1 - x2).normalize();
+        let n1 = V4::<S>::gather(|l| four[l].1.n1);
+        let n2 = V4::<S>::gather(|l| four[l].1.n2);
+        let (rolled, rolled_n1, rolled_n2) =
+            rolling_correction_lanes(n1, n2, k.reduced_radius, k.xi_crit);
+        let a = V4::select(rolled, rolled_n1, n1);
+        let b = V4::select(rolled, rolled_n2, n2);
+        let (slid, slid_n1, slid_n2) = sliding_correction_lanes(a, b, nc, law.radius, k.zeta_crit);
+        for (l, (i, c)) in four.iter_mut().enumerate() {
+            let found = Found {
+                rolled: (rolled.0[l] != 0).then(|| (rolled_n1.lane(l), rolled_n2.lane(l))),
+                slid: (slid.0[l] != 0).then(|| (slid_n1.lane(l), slid_n2.lane(l))),
+            };
+            noted.apply(law, *i, c, found);
         }
-        states.push(EnergyOf { contact, state: *c });
-    };
-    if let Some((n1, n2)) = rolling::rolling_correction(c.n1, c.n2, k.reduced_radius, k.xi_crit) {
-        c.n1 = n1;
-        c.n2 = n2;
-        corrected(c, states);
-        booking.rolled = true;
     }
-    if let Some((n1, n2)) = sliding::sliding_correction(c.n1, c.n2, nc, r, r, k.zeta_crit) {
-        c.n1 = n1;
-        c.n2 = n2;
-        corrected(c, states);
-        booking.slid = true;
+    for (i, c) in batches.into_remainder() {
+        let found = Found::one_at_a_time(law, m, *i, c);
+        noted.apply(law, *i, c, found);
     }
-    if let Some(twist) = twisting::twisting_correction(c.twist, k.phi_crit) {
-        c.twist = twist;
-        corrected(c, states);
-        booking.twisted = true;
-    }
-    (booking.rolled || booking.slid || booking.twisted).then_some(booking)
 }
 
 /// The tangential step energy of every noted state, in order, `lanes` wide, from its

@@ -24,6 +24,7 @@ pub mod forces_lanes;
 pub mod integrate;
 pub mod integrate_lanes;
 pub mod lanes;
+pub mod limits_lanes;
 pub mod memory;
 pub mod neighbours;
 pub mod partner_index;
