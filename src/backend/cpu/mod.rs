@@ -30,6 +30,7 @@ pub mod neighbours;
 pub mod partner_index;
 mod prefetch;
 pub mod scan;
+pub mod wall_planes;
 pub mod walls;
 pub mod workspace;
 

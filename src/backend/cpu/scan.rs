@@ -6,8 +6,10 @@
 //! pair tests of `integrate_pairs`), or wall contacts (before or after its events), with what
 //! the contacts pass does for it. Owners not listed have nothing to do there.
 
+use super::forces_lanes::ContactLanes;
 use super::neighbours::NeighbourList;
 use super::prefetch::{prefetch_one, prefetch_row_ahead, worthwhile, PARTNERS_AHEAD};
+use super::wall_planes::{count_touching, touching, WallPlanes};
 use super::workspace::{split_len, CHUNK};
 use crate::backend::script::{
     OWNER_CORRECTIONS, OWNER_EVENTS, OWNER_WALLS, PAIR_TEST_BEYOND, PAIR_TEST_BREAKS,
@@ -33,6 +35,7 @@ pub fn contacts_scan(
     let list = &*list;
     let ps = table.pair_slots;
     let prefetching = worthwhile(table);
+    let (lanes, planes) = (ContactLanes::chosen(), WallPlanes::new(walls));
     let chunks: Vec<Vec<u32>> = (0..n.div_ceil(CHUNK))
         .into_par_iter()
         .with_min_len(split_len(n, CHUNK))
@@ -40,6 +43,9 @@ pub fn contacts_scan(
             let first = chunk * CHUNK;
             let end = (first + CHUNK).min(n);
             let mut items = Vec::new();
+            let mut touching_walls = [0u8; CHUNK];
+            let x = &monomers.position[first..end];
+            count_touching(lanes, walls, &planes, law.radius, x, &mut touching_walls);
             for i in first..end {
                 if prefetching {
                     // The owner's row (read for its partners) and its candidates' centres.
@@ -52,8 +58,8 @@ pub fn contacts_scan(
                         }
                     }
                 }
-                if let Some(item) = owner_work(law, monomers, walls, list, table, pair_tests[i], i)
-                {
+                let tests = (pair_tests[i], touching_walls[i - first]);
+                if let Some(item) = owner_work(law, monomers, walls, list, table, tests, i) {
                     items.push(item);
                 }
             }
@@ -66,14 +72,15 @@ pub fn contacts_scan(
     }
 }
 
-/// Owner `i`'s work item, if it has work.
+/// Owner `i`'s work item, if it has work: `tests` are its pair tests and how many walls it
+/// touches.
 fn owner_work(
     law: &ContactLaw,
     monomers: &Monomers,
     walls: &[Wall],
     list: &NeighbourList,
     table: &ContactTable,
-    tests: u32,
+    (tests, touching_walls): (u32, u8),
     i: usize,
 ) -> Option<u32> {
     let r = law.radius;
@@ -94,11 +101,7 @@ fn owner_work(
         let squared = (pos[i] - pos[j as usize]).length_squared();
         may_touch(squared, apart) && touching(2.0 * r - squared.sqrt()) && !table.has_pair(i, j)
     });
-    let touching_walls = walls
-        .iter()
-        .filter(|w| touching(wall_law::wall_overlap(pos[i], w.point, w.normal, r)))
-        .count();
-    let forms_wall_contact = touching_walls > touching_wall_contacts;
+    let forms_wall_contact = usize::from(touching_walls) > touching_wall_contacts;
     event |= forming || forms_wall_contact;
     let wall_work = table.wall_count[i] > 0 || forms_wall_contact;
     let bits = if event { OWNER_EVENTS } else { 0 }
@@ -119,12 +122,6 @@ fn surely_apart_beyond(d: f64) -> f64 {
 /// Whether a squared distance is not above `apart` (a NaN is not: it goes to the exact test).
 fn may_touch(squared: f64, apart: f64) -> bool {
     squared.partial_cmp(&apart) != Some(std::cmp::Ordering::Greater)
-}
-
-/// An overlap that is not negative: touching, as the events test it (`!(δ < 0)`, so a NaN
-/// overlap counts, as in the WGSL).
-fn touching(overlap: f64) -> bool {
-    overlap.partial_cmp(&0.0) != Some(std::cmp::Ordering::Less)
 }
 
 /// The tests `integrate_pairs` makes for `contacts_scan`, on the state as it is (positions not
