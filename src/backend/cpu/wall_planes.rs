@@ -165,6 +165,33 @@ mod tests {
             counts(0) > 100 && counts(1) > 10 && counts(2) > 10,
             "{reference:?}"
         );
+        // A monomer whose overlap with a wall through the origin is exactly zero: touching.
+        let floor = [Wall {
+            point: DVec3::ZERO,
+            normal: DVec3::Z,
+            ..walls[0].clone()
+        }];
+        let at_zero = [DVec3::new(0.0, 0.0, r)];
+        assert_eq!(
+            wall_law::wall_overlap(at_zero[0], DVec3::ZERO, DVec3::Z, r),
+            0.0
+        );
+        for lanes in [
+            ContactLanes::Scalar,
+            ContactLanes::Portable,
+            ContactLanes::detected(),
+        ] {
+            let mut got = [0];
+            count_touching(
+                lanes,
+                &floor,
+                &WallPlanes::new(&floor),
+                r,
+                &at_zero,
+                &mut got,
+            );
+            assert_eq!(got, [1], "{lanes:?}: a zero overlap touches");
+        }
         for lanes in [ContactLanes::Portable, ContactLanes::detected()] {
             for n in [0, 1, 4, 5, 6] {
                 let mut got = vec![0; x.len()];

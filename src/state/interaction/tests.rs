@@ -61,13 +61,13 @@ fn a_wall_correction_drops_the_tangential_step_energy_by_what_it_drops_the_whole
     let law = ContactLaw::new(&Material::silicate(), &ModelOptions::default());
     let r = law.radius;
     let k = law.wall_constants(WallFactors::FULL);
-    // The bottom wall moving up at 1 m/s under a monomer pressed into it, sliding and
+    // The bottom wall moving up at 1 m/s and sideways at 0.3 m/s under a monomer pressed into it, sliding and
     // spinning, its contact slid and twisted past the limits.
     let wall = Wall {
         name: "bottom".into(),
         point: DVec3::new(0.0, 0.0, -r + 2.0 * k.delta0),
         normal: DVec3::Z,
-        velocity: DVec3::new(0.0, 0.0, 100.0),
+        velocity: DVec3::new(30.0, 0.0, 100.0),
         constants: k,
     };
     let mut m = Monomers::new(vec![DVec3::ZERO]);
