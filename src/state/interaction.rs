@@ -13,9 +13,9 @@ use crate::model::{rolling, sliding, twisting, wall as wall_law, ContactLaw};
 use glam::DVec3;
 
 /// What a pair contact's force and energy take from the two monomers' positions and velocities
-/// alone, not from its pointers or twist: the inelastic corrections change only those, so the
-/// forces pass evaluates this at a contact's first correction and shares it between the
-/// corrections' step energies. The same operations as evaluating it each time, so the same bits.
+/// alone, not from its pointers or twist: evaluated once and shared by the force and the step
+/// energy of a contact event (the same operations as evaluating it each time, so the same
+/// bits). The inelastic corrections need only its [`PairFrame`] part.
 #[derive(Clone, Copy, Debug)]
 pub struct PairGeometry {
     pub distance: f64,
@@ -181,8 +181,9 @@ fn pair_potential_with(law: &ContactLaw, normal: f64, nc: DVec3, c: &PairContact
 /// conservative forces and torques do over the step just taken (relative displacement
 /// (v₁ − v₂)dt, rotations ω dt with the mid-step velocities).
 ///
-/// Every discontinuous change of a contact (forming, breaking, an inelastic correction) is booked
-/// as the drop of this quantity. The integrator applies a force for half a step on either side of
+/// Every discontinuous change of a contact is booked as the drop of this quantity: forming and
+/// breaking with the whole of it, an inelastic correction with the part it changes
+/// ([`pair_tangential_step_energy`]). The integrator applies a force for half a step on either side of
 /// the instant it is evaluated, so booking the potential alone would leave an O(F v dt) error per
 /// event in the energy balance; with the half-step term the balance closes to integration error.
 pub fn pair_step_energy(
@@ -220,8 +221,7 @@ pub fn pair_step_energy_at(
 }
 
 /// What a wall contact's force and energy take from the monomer's position and velocity
-/// alone, not from its pointer, anchor or twist: shared, like [`PairGeometry`], between the
-/// wall corrections' step energies and the force, with the same bits.
+/// alone, not from its pointer, anchor or twist (its force's JKR and damping parts).
 #[derive(Clone, Copy, Debug)]
 pub struct WallGeometry {
     /// JKR force on the monomer.
