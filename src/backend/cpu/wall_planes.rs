@@ -20,7 +20,14 @@ pub struct WallPlanes {
 }
 
 impl WallPlanes {
+    /// Panics above 255 walls, the most a per-monomer count of one byte holds (an engine has
+    /// six; the device takes eight).
     pub fn new(walls: &[Wall]) -> WallPlanes {
+        assert!(
+            walls.len() <= usize::from(u8::MAX),
+            "{} walls: the contacts scan counts at most 255",
+            walls.len()
+        );
         let batches = walls
             .chunks(4)
             .map(|four| {
