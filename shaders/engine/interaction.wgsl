@@ -36,7 +36,6 @@ fn pair_interaction(
     twist: f64,
 ) -> PairInteraction {
     let k = params.pair;
-    let r = params.radius;
     let d = centres.x1 - centres.x2;
     let distance = vec_length(d);
     let nc = d / distance;
@@ -45,6 +44,23 @@ fn pair_interaction(
     let coefficient = damping_coefficient(law_damping(), x * k.a0, params.e_star, params.poisson);
     let damping = nc * (-coefficient * vec_dot(v1 - v2, nc));
 
+    let t = pair_tangential(nc, distance, n1, n2, twist);
+    return PairInteraction(normal + damping + t.slide, damping, t.m1, t.m2);
+}
+
+// The rolling, sliding and twisting part of a pair contact's interaction, with the
+// displacements it was made from: twin of pair_tangential in src/state/interaction.rs.
+struct PairTangential {
+    slide: vec3<f64>,
+    m1: vec3<f64>,
+    m2: vec3<f64>,
+    xi: vec3<f64>,
+    zeta: vec3<f64>,
+}
+
+fn pair_tangential(nc: vec3<f64>, distance: f64, n1: vec3<f64>, n2: vec3<f64>, twist: f64) -> PairTangential {
+    let k = params.pair;
+    let r = params.radius;
     let xi = rolling_displacement(n1, n2, k.reduced_radius);
     let zeta = sliding_displacement(n1, n2, nc, r, r);
     let slide = sliding_force(zeta, n1, n2, nc, r, r, distance, k.k_s);
@@ -55,7 +71,7 @@ fn pair_interaction(
     let torque2 = rolling_torque(n2, xi, k.reduced_radius, k.k_r)
         + sliding_torque(n2, zeta, r, k.k_s, -1.0lf)
         - twist_torque;
-    return PairInteraction(normal + damping + slide, damping, torque1, torque2);
+    return PairTangential(slide, torque1, torque2, xi, zeta);
 }
 
 fn pair_contact_potential(centres: PairCentres, n1: vec3<f64>, n2: vec3<f64>, twist: f64) -> f64 {
@@ -92,26 +108,16 @@ fn pair_step_energy(i: u32, j: u32, n1: vec3<f64>, n2: vec3<f64>, twist: f64) ->
 // src/state/interaction.rs.
 fn pair_tangential_step_energy(i: u32, j: u32, n1: vec3<f64>, n2: vec3<f64>, twist: f64) -> f64 {
     let k = params.pair;
-    let r = params.radius;
     let centres = pair_centres(i, j);
     let d = centres.x1 - centres.x2;
     let distance = vec_length(d);
     let nc = d / distance;
     let v_rel = velocity[i].xyz - velocity[j].xyz;
-    let xi = rolling_displacement(n1, n2, k.reduced_radius);
-    let zeta = sliding_displacement(n1, n2, nc, r, r);
-    let slide = sliding_force(zeta, n1, n2, nc, r, r, distance, k.k_s);
-    let twist_torque = twisting_torque(twist, nc, k.k_t);
-    let torque1 = rolling_torque(n1, xi, k.reduced_radius, k.k_r)
-        + sliding_torque(n1, zeta, r, k.k_s, 1.0lf)
-        + twist_torque;
-    let torque2 = rolling_torque(n2, xi, k.reduced_radius, k.k_r)
-        + sliding_torque(n2, zeta, r, k.k_s, -1.0lf)
-        - twist_torque;
-    let work = vec_dot(slide, v_rel)
-        + vec_dot(torque1, angular_velocity[i].xyz)
-        + vec_dot(torque2, angular_velocity[j].xyz);
-    return rolling_potential(xi, k.k_r) + sliding_potential(zeta, k.k_s)
+    let t = pair_tangential(nc, distance, n1, n2, twist);
+    let work = vec_dot(t.slide, v_rel)
+        + vec_dot(t.m1, angular_velocity[i].xyz)
+        + vec_dot(t.m2, angular_velocity[j].xyz);
+    return rolling_potential(t.xi, k.k_r) + sliding_potential(t.zeta, k.k_s)
         + twisting_potential(twist, k.k_t) + 0.5lf * params.dt * work;
 }
 
@@ -121,18 +127,34 @@ fn wall_interaction(frame: WallFrame, v: vec3<f64>, n1: vec3<f64>, anchor: vec3<
     let x = frame.x;
     let wall = frame.wall;
     let k = wall.k;
-    let r = params.radius;
     let n = wall.normal.xyz;
     let x_ratio = jkr_contact_radius_ratio(frame.delta / k.delta0);
     let normal = n * jkr_force(x_ratio, k.f_c);
     let coefficient = damping_coefficient(law_damping(), x_ratio * k.a0, params.e_star, params.poisson);
     let damping = n * (-coefficient * vec_dot(v - wall.velocity.xyz, n));
+    let t = wall_tangential(x, wall, n1, anchor, twist);
+    return WallInteraction(normal + damping + t.slide, damping, t.m);
+}
+
+// The rolling, sliding and twisting part of a wall contact's interaction, with the
+// displacements it was made from: twin of wall_tangential in src/state/interaction.rs.
+struct WallTangential {
+    slide: vec3<f64>,
+    m: vec3<f64>,
+    xi: vec3<f64>,
+    zeta: vec3<f64>,
+}
+
+fn wall_tangential(x: vec3<f64>, wall: Wall, n1: vec3<f64>, anchor: vec3<f64>, twist: f64) -> WallTangential {
+    let k = wall.k;
+    let r = params.radius;
+    let n = wall.normal.xyz;
     let xi = wall_rolling_displacement(n1, n, r);
     let zeta = wall_sliding_displacement(x, n1, r, anchor, n);
     let torque = rolling_torque(n1, xi, r, k.k_r)
         + sliding_torque(n1, zeta, r, k.k_s, 1.0lf)
         + twisting_torque(twist, n, k.k_t);
-    return WallInteraction(normal + damping + wall_sliding_force(zeta, k.k_s), damping, torque);
+    return WallTangential(wall_sliding_force(zeta, k.k_s), torque, xi, zeta);
 }
 
 fn wall_contact_potential(frame: WallFrame, n1: vec3<f64>, anchor: vec3<f64>, twist: f64) -> f64 {
@@ -166,16 +188,9 @@ fn wall_tangential_step_energy(i: u32, wall: Wall, n1: vec3<f64>, anchor: WallAn
     let p = anchor_into_frame(anchor, frame);
     let v = velocity[i].xyz;
     let k = wall.k;
-    let r = params.radius;
-    let n = wall.normal.xyz;
-    let xi = wall_rolling_displacement(n1, n, r);
-    let zeta = wall_sliding_displacement(frame.x, n1, r, p, n);
-    let torque = rolling_torque(n1, xi, r, k.k_r)
-        + sliding_torque(n1, zeta, r, k.k_s, 1.0lf)
-        + twisting_torque(twist, n, k.k_t);
-    let work = vec_dot(wall_sliding_force(zeta, k.k_s), v - wall.velocity.xyz)
-        + vec_dot(torque, angular_velocity[i].xyz);
-    return rolling_potential(xi, k.k_r) + sliding_potential(zeta, k.k_s)
+    let t = wall_tangential(frame.x, wall, n1, p, twist);
+    let work = vec_dot(t.slide, v - wall.velocity.xyz) + vec_dot(t.m, angular_velocity[i].xyz);
+    return rolling_potential(t.xi, k.k_r) + sliding_potential(t.zeta, k.k_s)
         + twisting_potential(twist, k.k_t) + 0.5lf * params.dt * work;
 }
 
