@@ -10,6 +10,7 @@
 
 use super::corrections_lanes::chunk_corrections;
 use super::forces_lanes::ContactLanes;
+use super::partner_index::RowChange;
 use super::walls::{wall_contacts_of, WallResult};
 use super::workspace::{split_len, sum_in_order, Workspace, CHUNK};
 use crate::backend::script::{OWNER_CORRECTIONS, OWNER_EVENTS, OWNER_INDEX, OWNER_WALLS};
@@ -18,6 +19,9 @@ use crate::model::{wall as wall_law, ContactLaw};
 use crate::state::interaction::{pair_step_energy, wall_step_energy};
 use crate::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
 use rayon::prelude::*;
+
+/// The most pair slots a configuration may give a monomer (`[integration] pair_slots`).
+const MAX_PAIR_SLOTS: usize = 64;
 
 /// One owner's row of the table.
 struct Row<'a> {
@@ -47,8 +51,9 @@ struct Shared<'a> {
 /// Does what `work` (contacts_scan's list) says for each listed owner: its contact events
 /// (`candidates` are the neighbour-list pairs, i < j, sorted; `starts` where each owner's
 /// begin, [`super::neighbours::owner_starts`]), its pair contacts' inelastic limits, its wall
-/// contacts' limits and forces (into `workspace`'s per-slot wall results). Returns whether any
-/// contact formed or broke.
+/// contacts' limits and forces (into `workspace`'s per-slot wall results). Returns the owners
+/// whose pair row a contact forming or breaking changed, by ascending owner, with their
+/// partners before (for the partner index; wall contacts do not move its entries).
 #[allow(clippy::too_many_arguments)]
 pub fn contacts(
     law: &ContactLaw,
@@ -61,8 +66,12 @@ pub fn contacts(
     tally: &mut Dissipation,
     work: &[u32],
     workspace: &mut Workspace,
-) -> Result<bool, EngineError> {
+) -> Result<Vec<RowChange>, EngineError> {
     let (ps, ws) = (table.pair_slots, table.wall_slots);
+    assert!(
+        ps <= MAX_PAIR_SLOTS,
+        "{ps} pair slots, at most {MAX_PAIR_SLOTS}"
+    );
     let n = monomers.len();
     let shared = Shared {
         law,
@@ -75,7 +84,7 @@ pub fn contacts(
     workspace.size_wall_results(n * ws);
     let lanes = ContactLanes::chosen();
     // Owners are few and far between in the list, so rows are not prefetched here.
-    let chunks: Vec<Result<(Dissipation, bool), EngineError>> = (
+    let chunks: Vec<Result<(Dissipation, Vec<RowChange>), EngineError>> = (
         table.pair.par_chunks_mut(CHUNK * ps),
         table.pair_count.par_chunks_mut(CHUNK),
         table.wall.par_chunks_mut(CHUNK * ws),
@@ -88,7 +97,7 @@ pub fn contacts(
         .map(
             |(chunk, (pairs, pair_counts, wall_rows, wall_counts, results))| {
                 let mut dissipated = Dissipation::default();
-                let mut changed = false;
+                let mut changed = Vec::new();
                 let first = chunk * CHUNK;
                 let items = items_of(work, first, pair_counts.len());
                 for &item in items {
@@ -100,7 +109,8 @@ pub fn contacts(
                         wall_count: &mut wall_counts[k],
                     };
                     let results = &mut results[k * ws..(k + 1) * ws];
-                    changed |= owner_work(&shared, item, &mut row, results, &mut dissipated)?;
+                    let change = owner_work(&shared, item, &mut row, results, &mut dissipated)?;
+                    changed.extend(change);
                 }
                 // After the events, which may add contacts the corrections then see; the
                 // corrections book only their own channels, so their order against the
@@ -120,30 +130,41 @@ pub fn contacts(
         )
         .collect();
     let mut sums = Vec::with_capacity(chunks.len());
-    let mut changed = false;
+    let mut changed = Vec::new();
     for c in chunks {
         let (sum, c) = c?;
         sums.push(sum);
-        changed |= c;
+        changed.extend(c);
     }
     tally.add(&sum_in_order(&sums));
     Ok(changed)
 }
 
 /// One listed owner's work, in the device's order: events, limits, wall contacts. Returns
-/// whether a contact formed or broke.
+/// its pair row as it was, where a pair contact formed or broke.
 fn owner_work(
     s: &Shared,
     item: u32,
     row: &mut Row,
     wall_results: &mut [WallResult],
     dissipated: &mut Dissipation,
-) -> Result<bool, EngineError> {
+) -> Result<Option<RowChange>, EngineError> {
     let i = (item & OWNER_INDEX) as usize;
-    let mut changed = false;
+    let mut changed = None;
     if item & OWNER_EVENTS != 0 {
         let mine = &s.candidates[s.starts[i] as usize..s.starts[i + 1] as usize];
-        changed = contact_events(s.law, s.dt, s.monomers, s.walls, mine, i, row, dissipated)?;
+        // The row as it was, kept on the stack: most events change no pair row.
+        let count = *row.pair_count as usize;
+        let mut before = [0u32; MAX_PAIR_SLOTS];
+        for (b, c) in before.iter_mut().zip(&row.pair[..count]) {
+            *b = c.partner;
+        }
+        if contact_events(s.law, s.dt, s.monomers, s.walls, mine, i, row, dissipated)? {
+            changed = Some(RowChange {
+                owner: i as u32,
+                partners_before: before[..count].to_vec(),
+            });
+        }
     }
     if item & OWNER_WALLS != 0 {
         let count = *row.wall_count as usize;
@@ -162,7 +183,7 @@ fn owner_work(
 }
 
 /// Breaks, then forms, the pair and wall contacts of owner `i` (`candidates` are its own);
-/// returns whether any formed or broke.
+/// returns whether any pair contact formed or broke.
 #[allow(clippy::too_many_arguments)]
 fn contact_events(
     law: &ContactLaw,
@@ -175,7 +196,7 @@ fn contact_events(
     tally: &mut Dissipation,
 ) -> Result<bool, EngineError> {
     let r = law.radius;
-    let counts_before = (*row.pair_count, *row.wall_count);
+    let count_before = *row.pair_count;
     let mut broke = false;
     let pos = &monomers.position;
     // Break.
@@ -199,7 +220,6 @@ fn contact_events(
         let delta = wall_law::wall_overlap(pos[i], w.point, w.normal, r);
         if delta < -w.constants.delta_c {
             tally.walls += wall_step_energy(law, monomers, dt, i, w, &c);
-            broke = true;
             row.wall[slot] = row.wall[*row.wall_count as usize - 1];
             *row.wall_count -= 1;
         } else {
@@ -259,5 +279,5 @@ fn contact_events(
         row.wall[count] = c;
         *row.wall_count += 1;
     }
-    Ok(broke || counts_before != (*row.pair_count, *row.wall_count))
+    Ok(broke || count_before != *row.pair_count)
 }

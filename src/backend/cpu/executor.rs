@@ -102,8 +102,8 @@ impl CpuEngine {
         self.run_pass(Kernel::IntegrateKick)
     }
 
-    /// `contacts` on the work list `contacts_scan` left; a contact formed or broken makes the
-    /// partner index stale.
+    /// `contacts` on the work list `contacts_scan` left; the partner index follows the pair
+    /// rows a contact forming or breaking changed (or, where it cannot, is marked stale).
     fn contacts_of_the_listed_owners(&mut self) -> Result<(), EngineError> {
         let s = &mut self.state;
         let w = &mut self.workspace;
@@ -122,8 +122,9 @@ impl CpuEngine {
             w,
         );
         w.work = work;
-        if changed? {
-            w.partner_index_current = false;
+        let changed = changed?;
+        if !changed.is_empty() && w.partner_index_current {
+            w.partner_index_current = w.incoming.update(&s.contacts, &changed);
         }
         Ok(())
     }

@@ -1,45 +1,79 @@
 //! Where each owner's contacts sit in the per-contact results, and for each monomer which of
-//! those results it is the partner of: the index `forces` and `wall_forces` gather by,
-//! rebuilt after every step with a contact event.
+//! those results it is the partner of: the index `forces` and `wall_forces` gather by.
 //!
-//! Under compression nearly every step has events, so the rebuild runs every step; done on
-//! one thread, reading the table's 64-byte contacts twice, it took about a tenth of a
-//! two-thread step of a compressed 10⁴ sample (DESIGN.md, "CPU engine: the partner index").
-//! It now reads the table once, in parallel, into a compact array of partners, and then
-//! counts and places the contacts by ranges of partners, one range per thread: each range
-//! owns its part of the output, so the index is the same for any number of ranges.
+//! Each monomer keeps the contacts it is the partner of as entries `owner << slot_bits | slot`,
+//! ascending (owner and slot order, the gather's order), in `room` places of its own; a
+//! result's position is `owner_start[owner] + slot`, the owners' contacts one after another.
+//! So a contact event touches only the entries of the partners of the rows it changed
+//! ([`PartnerIndex::update`]) and the running totals `owner_start`. Under compression nearly
+//! every step has events but few rows change (23 of 10⁴ rows per step at φ 0.45): the full
+//! rebuild after each such step had been 7 % of a one-thread step's instructions (DESIGN.md,
+//! "CPU engine: the partner index"). The full rebuild remains for a new or replaced table,
+//! and for a monomer whose entries outgrow their room.
 
-use super::workspace::{chunk_offsets, split_at_offsets, CHUNK, SERIAL_BELOW};
 use crate::state::ContactTable;
-use rayon::prelude::*;
 
-/// Compressed sparse rows: the owners' contacts one after another in owner and slot order
-/// (`owner_start`), and per partner the positions of its contacts in that order, ascending.
-///
-/// The results are compact rather than one per slot: at 10⁵ monomers 12 slots of 96 B per
-/// owner for about one contact spread 19 MB of results over 115 MB (DESIGN.md, "CPU engine:
-/// prefetching contact rows").
+/// Spare places per monomer beyond the most entries any monomer had at the full rebuild, so
+/// that a contact forming does not force another rebuild at once.
+const SPARE_ROOM: usize = 2;
+
+/// An owner's pair row before the contact events changed it: its partners by slot.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RowChange {
+    pub owner: u32,
+    pub partners_before: Vec<u32>,
+}
+
+/// Per monomer the contacts it is the partner of, and per owner where its results begin.
 #[derive(Clone, Debug, Default)]
 pub struct PartnerIndex {
     owner_start: Vec<u32>,
-    start: Vec<u32>,
-    slots: Vec<u32>,
-    /// Each contact's partner, in owner and slot order (kept to reuse its allocation).
-    partner: Vec<u32>,
+    /// Low bits of an entry holding the slot.
+    slot_bits: u32,
+    /// Places per monomer in `entries`.
+    room: usize,
+    /// Monomer `j`'s entries are `entries[j * room..j * room + count[j]]`, ascending.
+    entries: Vec<u32>,
+    count: Vec<u32>,
 }
 
 impl PartnerIndex {
     /// Heap bytes of the index's arrays.
     pub fn heap_bytes(&self) -> u64 {
-        [&self.owner_start, &self.start, &self.slots, &self.partner]
+        [&self.owner_start, &self.entries, &self.count]
             .iter()
             .map(|v| super::memory::bytes(v))
             .sum()
     }
 
-    /// Rebuilds the index from the table.
+    /// Rebuilds the index from the table: the entries counted per partner, the room set by
+    /// the most of them, then placed owner by owner and slot by slot (so ascending).
     pub fn rebuild(&mut self, table: &ContactTable) {
         let n = table.pair_count.len();
+        let ps = table.pair_slots;
+        self.slot_bits = usize::BITS - (ps.max(2) - 1).leading_zeros();
+        assert!(
+            n <= (u32::MAX >> self.slot_bits) as usize,
+            "{n} monomers with {ps} pair slots each do not fit the partner index's 32-bit entries"
+        );
+        self.count.clear();
+        self.count.resize(n, 0);
+        for i in 0..n {
+            for c in table.pairs_of(i) {
+                self.count[c.partner as usize] += 1;
+            }
+        }
+        self.room = self.count.iter().max().map_or(0, |&m| m as usize) + SPARE_ROOM;
+        self.count.fill(0);
+        self.entries.clear();
+        self.entries.resize(n * self.room, 0);
+        for i in 0..n {
+            for (s, c) in table.pairs_of(i).iter().enumerate() {
+                let j = c.partner as usize;
+                self.entries[j * self.room + self.count[j] as usize] = self.entry(i, s);
+                self.count[j] += 1;
+            }
+        }
         self.owner_start.clear();
         self.owner_start.push(0);
         let mut total = 0;
@@ -47,22 +81,70 @@ impl PartnerIndex {
             total += count;
             self.owner_start.push(total);
         }
-        gather_partners(table, &self.owner_start, &mut self.partner);
-        let ranges = partner_ranges(n);
-        self.start.clear();
-        self.start.resize(n + 1, 0);
-        count_by_partner(&self.partner, &ranges, &mut self.start[1..]);
-        for j in 0..n {
-            self.start[j + 1] += self.start[j];
-        }
-        self.slots.clear();
-        self.slots.resize(total as usize, 0);
-        place_by_partner(&self.partner, &ranges, &self.start, &mut self.slots);
     }
 
-    /// Positions in the per-contact results whose partner is monomer `j`.
-    pub fn of(&self, j: usize) -> &[u32] {
-        &self.slots[self.start[j] as usize..self.start[j + 1] as usize]
+    /// Brings the index up to date after contact events changed the rows `changes` lists (by
+    /// ascending owner, each with its partners before): the old rows' entries removed, the new
+    /// rows' inserted in order, the running totals from the first changed owner on. Returns
+    /// false, the index then stale, where a monomer's entries outgrew their room: rebuild it.
+    pub fn update(&mut self, table: &ContactTable, changes: &[RowChange]) -> bool {
+        for change in changes {
+            let i = change.owner as usize;
+            for (s, &j) in change.partners_before.iter().enumerate() {
+                self.remove(j as usize, self.entry(i, s));
+            }
+        }
+        for change in changes {
+            let i = change.owner as usize;
+            for (s, c) in table.pairs_of(i).iter().enumerate() {
+                if !self.insert(c.partner as usize, self.entry(i, s)) {
+                    return false;
+                }
+            }
+        }
+        if let Some(first) = changes.first() {
+            let start = &mut self.owner_start;
+            for i in first.owner as usize..table.pair_count.len() {
+                start[i + 1] = start[i] + table.pair_count[i];
+            }
+        }
+        true
+    }
+
+    fn entry(&self, owner: usize, slot: usize) -> u32 {
+        (owner as u32) << self.slot_bits | slot as u32
+    }
+
+    fn remove(&mut self, j: usize, entry: u32) {
+        let list = &mut self.entries[j * self.room..j * self.room + self.count[j] as usize];
+        let at = list
+            .binary_search(&entry)
+            .expect("a changed row's old contact is in its partner's entries");
+        list.copy_within(at + 1.., at);
+        self.count[j] -= 1;
+    }
+
+    /// Inserts in order; false where the monomer's room is full.
+    fn insert(&mut self, j: usize, entry: u32) -> bool {
+        let count = self.count[j] as usize;
+        if count == self.room {
+            return false;
+        }
+        let list = &mut self.entries[j * self.room..j * self.room + count + 1];
+        let at = list[..count].partition_point(|&e| e < entry);
+        list.copy_within(at..count, at + 1);
+        list[at] = entry;
+        self.count[j] += 1;
+        true
+    }
+
+    /// Positions in the per-contact results whose partner is monomer `j`, ascending.
+    pub fn of(&self, j: usize) -> impl Iterator<Item = u32> + '_ {
+        let mask = (1u32 << self.slot_bits) - 1;
+        let entries = &self.entries[j * self.room..j * self.room + self.count[j] as usize];
+        entries
+            .iter()
+            .map(move |&e| self.owner_start[(e >> self.slot_bits) as usize] + (e & mask))
     }
 
     /// Where owner `i`'s results begin (`n + 1` entries; the last is the number of contacts).
@@ -71,92 +153,56 @@ impl PartnerIndex {
     }
 }
 
-/// Boundaries of the partner ranges over `0..n`: one range per thread, or one below
-/// [`SERIAL_BELOW`] monomers.
-fn partner_ranges(n: usize) -> Vec<usize> {
-    let count = if n < SERIAL_BELOW {
-        1
-    } else {
-        rayon::current_num_threads().clamp(1, n)
-    };
-    (0..=count).map(|r| r * n / count).collect()
-}
-
-/// Every contact's partner, in owner and slot order, into `partner` (owners in parallel).
-fn gather_partners(table: &ContactTable, owner_start: &[u32], partner: &mut Vec<u32>) {
-    let n = table.pair_count.len();
-    let ps = table.pair_slots;
-    partner.clear();
-    partner.resize(owner_start[n] as usize, 0);
-    let stretches = split_at_offsets(partner, chunk_offsets(owner_start));
-    let min_len = if n < SERIAL_BELOW { usize::MAX } else { 1 };
-    table
-        .pair
-        .par_chunks(CHUNK * ps)
-        .zip(table.pair_count.par_chunks(CHUNK))
-        .zip(stretches.into_par_iter())
-        .with_min_len(min_len)
-        .for_each(|((rows, counts), out)| {
-            let mut out = out.iter_mut();
-            for (row, &count) in rows.chunks(ps).zip(counts) {
-                for c in &row[..count as usize] {
-                    *out.next().expect("a place per contact") = c.partner;
-                }
-            }
-        });
-}
-
-/// `counts[j]` = how many contacts have partner `j`: each range counts its own partners.
-fn count_by_partner(partner: &[u32], ranges: &[usize], counts: &mut [u32]) {
-    split_at_offsets(counts, ranges.iter().copied())
-        .into_par_iter()
-        .enumerate()
-        .for_each(|(r, counts)| {
-            let (a, b) = (ranges[r] as u32, ranges[r + 1] as u32);
-            for &j in partner {
-                if (a..b).contains(&j) {
-                    counts[(j - a) as usize] += 1;
-                }
-            }
-        });
-}
-
-/// Places each contact's position under its partner, ascending: each range fills the part of
-/// `slots` its partners own (`start[a]..start[b]`), reading the contacts in order.
-fn place_by_partner(partner: &[u32], ranges: &[usize], start: &[u32], slots: &mut [u32]) {
-    let parts = split_at_offsets(slots, ranges.iter().map(|&j| start[j] as usize));
-    parts.into_par_iter().enumerate().for_each(|(r, part)| {
-        let (a, b) = (ranges[r], ranges[r + 1]);
-        let base = start[a];
-        let mut next: Vec<u32> = start[a..b].iter().map(|s| s - base).collect();
-        for (position, &j) in partner.iter().enumerate() {
-            if (a..b).contains(&(j as usize)) {
-                let at = &mut next[j as usize - a];
-                part[*at as usize] = position as u32;
-                *at += 1;
-            }
-        }
-    });
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::state::PairContact;
 
+    const SLOTS: usize = 4;
+
     /// A table of `n` monomers whose owner `i` has partners `partners(i)`.
     fn table(n: usize, partners: impl Fn(usize) -> Vec<u32>) -> ContactTable {
-        let mut t = ContactTable::new(n, 4, 1);
+        let mut t = ContactTable::new(n, SLOTS, 1);
         for i in 0..n {
-            for (s, j) in partners(i).into_iter().enumerate() {
-                t.pair[i * 4 + s] = PairContact {
-                    partner: j,
-                    ..t.pair[i * 4 + s]
-                };
-                t.pair_count[i] += 1;
-            }
+            set_row(&mut t, i, &partners(i));
         }
         t
+    }
+
+    fn set_row(t: &mut ContactTable, i: usize, partners: &[u32]) {
+        for (s, &j) in partners.iter().enumerate() {
+            t.pair[i * SLOTS + s] = PairContact {
+                partner: j,
+                ..t.pair[i * SLOTS + s]
+            };
+        }
+        t.pair_count[i] = partners.len() as u32;
+    }
+
+    /// The definition: positions counted in owner and slot order, grouped by partner.
+    fn defined(t: &ContactTable) -> Vec<Vec<u32>> {
+        let n = t.pair_count.len();
+        let mut expected = vec![vec![]; n];
+        let mut position = 0u32;
+        for i in 0..n {
+            for c in t.pairs_of(i) {
+                expected[c.partner as usize].push(position);
+                position += 1;
+            }
+        }
+        expected
+    }
+
+    fn assert_defined(index: &PartnerIndex, t: &ContactTable, what: &str) {
+        for (j, e) in defined(t).iter().enumerate() {
+            assert_eq!(index.of(j).collect::<Vec<_>>(), *e, "partner {j}, {what}");
+        }
+        let n = t.pair_count.len();
+        assert_eq!(
+            index.owner_start()[n] as usize,
+            t.pair_contact_count(),
+            "{what}"
+        );
     }
 
     #[test]
@@ -166,43 +212,119 @@ mod tests {
         let mut index = PartnerIndex::default();
         index.rebuild(&table(4, |i| rows[i].clone()));
         assert_eq!(index.owner_start(), [0, 2, 3, 3, 4]);
-        let of: Vec<&[u32]> = (0..4).map(|j| index.of(j)).collect();
-        assert_eq!(of, [&[][..], &[1], &[0, 2, 3], &[]]);
-        // Owner starts and partner starts 5 entries each, slots and partners 4: 18 × 4 B.
-        assert!(index.heap_bytes() >= 72, "{} B", index.heap_bytes());
+        let of: Vec<Vec<u32>> = (0..4).map(|j| index.of(j).collect()).collect();
+        assert_eq!(of, [vec![], vec![1], vec![0, 2, 3], vec![]]);
+        // Room 3 + 2 spare places for 4 monomers, their counts, 5 owner starts: 29 × 4 B.
+        assert!(index.heap_bytes() >= 116, "{} B", index.heap_bytes());
+    }
+
+    fn scattered(n: usize, seed: usize) -> impl Fn(usize) -> Vec<u32> {
+        move |i: usize| {
+            let k = (i * 7919 + 13 + seed) % (SLOTS + 1);
+            (1..=k)
+                .map(|s| ((i * 104_729 + s * 7_727 + seed * 31) % n) as u32)
+                .collect()
+        }
     }
 
     #[test]
-    fn any_number_of_threads_gives_the_index_of_the_definition() {
-        // Enough monomers for the parallel ranges; partners scattered over the whole range.
-        let n = 3 * SERIAL_BELOW + 17;
-        let partners = |i: usize| -> Vec<u32> {
-            let k = (i * 7919 + 13) % 5;
-            (1..=k)
-                .map(|s| ((i * 104_729 + s * 7_727) % n) as u32)
-                .collect()
-        };
-        let t = table(n, partners);
-        // The definition: positions counted in owner and slot order, grouped by partner.
-        let mut expected = vec![vec![]; n];
-        let mut position = 0u32;
-        for i in 0..n {
-            for j in partners(i) {
-                expected[j as usize].push(position);
-                position += 1;
+    fn a_rebuilt_index_is_the_index_of_the_definition() {
+        let n = 5000;
+        let t = table(n, scattered(n, 0));
+        let mut index = PartnerIndex::default();
+        index.rebuild(&t);
+        assert_defined(&index, &t, "rebuilt");
+    }
+
+    #[test]
+    fn rows_changed_by_events_update_the_index_to_the_definition() {
+        let n = 700;
+        let mut t = table(n, scattered(n, 0));
+        let mut index = PartnerIndex::default();
+        index.rebuild(&t);
+        for round in 1..40 {
+            // Some rows lose a contact, gain one, or both (by ascending owner).
+            let owners: Vec<usize> = (0..n).filter(|i| (i * 31 + round * 17) % 97 == 0).collect();
+            let mut changes = vec![];
+            for &i in &owners {
+                let before: Vec<u32> = t.pairs_of(i).iter().map(|c| c.partner).collect();
+                let mut after = before.clone();
+                if round % 3 != 1 && !after.is_empty() {
+                    after.swap_remove((i + round) % after.len());
+                }
+                if round % 3 != 2 && after.len() < SLOTS {
+                    after.push(((i * 13 + round * 101) % n) as u32);
+                }
+                set_row(&mut t, i, &after);
+                changes.push(RowChange {
+                    owner: i as u32,
+                    partners_before: before,
+                });
+            }
+            if !index.update(&t, &changes) {
+                // Outgrown: the caller rebuilds.
+                index.rebuild(&t);
+            }
+            assert_defined(&index, &t, &format!("round {round}"));
+        }
+    }
+
+    #[test]
+    fn a_monomer_outgrowing_its_room_asks_for_a_rebuild() {
+        // Monomer 0 is the partner of one contact; room 1 + 2 spare.
+        let mut t = table(6, |i| if i == 1 { vec![0] } else { vec![] });
+        let mut index = PartnerIndex::default();
+        index.rebuild(&t);
+        let mut changes = vec![];
+        for i in 2..6 {
+            set_row(&mut t, i, &[0]);
+            changes.push(RowChange {
+                owner: i as u32,
+                partners_before: vec![],
+            });
+        }
+        assert!(!index.update(&t, &changes), "5 entries in a room of 3");
+        index.rebuild(&t);
+        assert_defined(&index, &t, "rebuilt after outgrowing");
+    }
+}
+
+#[cfg(test)]
+mod engine_tests {
+    use super::PartnerIndex;
+
+    /// Step by step through a fresh sample's first contact events, the index the contacts pass
+    /// keeps up to date lists what a full rebuild from the table lists.
+    #[test]
+    fn the_updated_index_follows_the_table_through_contact_events() {
+        let mut e = crate::bench::benchmark_engine(&crate::bench::benchmark_config(1000).unwrap())
+            .unwrap()
+            .0;
+        let (mut updated_steps, n) = (0, e.monomers.len());
+        assert!(
+            e.workspace.partner_index_current,
+            "built by the start's forces"
+        );
+        for _ in 0..3000 {
+            let partners = |e: &crate::backend::cpu::CpuEngine| -> Vec<Vec<u32>> {
+                (0..n)
+                    .map(|i| e.contacts.pairs_of(i).iter().map(|c| c.partner).collect())
+                    .collect()
+            };
+            let before = partners(&e);
+            e.run(1).unwrap();
+            if before != partners(&e) && e.workspace.partner_index_current {
+                updated_steps += 1;
+            }
+            let mut fresh = PartnerIndex::default();
+            fresh.rebuild(&e.contacts);
+            assert_eq!(e.workspace.incoming.owner_start(), fresh.owner_start());
+            for j in 0..n {
+                let (kept, rebuilt): (Vec<u32>, Vec<u32>) =
+                    (e.workspace.incoming.of(j).collect(), fresh.of(j).collect());
+                assert_eq!(kept, rebuilt, "partner {j} at step {}", e.step);
             }
         }
-        for threads in [1, 2, 3, 8] {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            let mut index = PartnerIndex::default();
-            pool.install(|| index.rebuild(&t));
-            assert_eq!(index.owner_start()[n], position, "{threads} threads");
-            for (j, e) in expected.iter().enumerate() {
-                assert_eq!(index.of(j), &e[..], "partner {j}, {threads} threads");
-            }
-        }
+        assert!(updated_steps >= 10, "{updated_steps} steps changed rows");
     }
 }

@@ -212,7 +212,7 @@ fn gather(i: usize, workspace: &Workspace, table: &ContactTable) -> (DVec3, DVec
     let owner_start = incoming.owner_start();
     let results = &workspace.pair_result;
     let (mut f, mut fd, mut t) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
-    for &idx in incoming.of(i) {
+    for idx in incoming.of(i) {
         let r = &results[idx as usize];
         f -= r.force;
         fd -= r.damping;
