@@ -3,7 +3,8 @@
 //! bench's five groups, for finding which pass a change moved. With a filling factor and a
 //! directory, `-- 10000 0.45 bench`, it starts from the sample `dustdem bench --samples 0.45
 //! --prepare-speed 0.25 --out bench` compressed (reusing its stored state, else preparing it);
-//! a third argument sets the steps timed (default 60).
+//! a third argument sets the steps timed (default 60), a fourth, `untallied`, stops booking
+//! the corrections' dissipation (`[output] tally_corrections = false`).
 use dustdem::backend::script::STEP;
 use dustdem::bench::options::{Options, SampleState};
 use std::path::PathBuf;
@@ -42,6 +43,9 @@ fn main() {
         _ => dustdem::bench::benchmark_engine(&config).unwrap().0,
     };
     let steps: usize = args.get(3).map(|s| s.parse().unwrap()).unwrap_or(60);
+    if args.get(4).map(String::as_str) == Some("untallied") {
+        dustdem::engine::Engine::stop_tallying_corrections(&mut e);
+    }
     pool.install(|| {
         e.run(100).unwrap();
         let mut t = vec![0.0; STEP.len()];

@@ -149,6 +149,11 @@ pub trait Engine {
     /// checkpoints, snapshots and failure reports.
     fn state(&self) -> Cow<'_, State>;
 
+    /// Stops booking the inelastic corrections' dissipation: those channels of the tally
+    /// become NaN ([`crate::state::Dissipation::without_corrections`]), and the engine may skip
+    /// the step energies they need. The trajectory is unchanged.
+    fn stop_tallying_corrections(&mut self);
+
     /// Bytes of host memory the engine's arrays hold, where it keeps its state there (the CPU
     /// engine); `None` for an engine whose state lives on a device.
     fn host_bytes(&self) -> Option<u64> {

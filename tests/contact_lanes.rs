@@ -303,6 +303,7 @@ fn corrected(
     m: &Monomers,
     rows: &[PairContact],
     counts: &[u32],
+    booked: bool,
 ) -> (Vec<u64>, Dissipation) {
     let mut rows = rows.to_vec();
     let mut tally = Dissipation::default();
@@ -311,7 +312,7 @@ fn corrected(
         .zip(counts)
         .enumerate()
         .map(|(i, (row, &count))| (i, &mut row[..count as usize]));
-    chunk_corrections(lanes, law, 3e-10, m, owners, &mut tally);
+    chunk_corrections(lanes, law, 3e-10, m, owners, booked.then_some(&mut tally));
     (row_bits(&rows), tally)
 }
 
@@ -323,12 +324,12 @@ fn the_corrections_book_the_scalar_dissipation_bits_in_lanes() {
     for w in m.angular_velocity.iter_mut() {
         *w = DVec3::new(rng.normal(), rng.normal(), rng.normal()) * 1e5;
     }
-    let (reference, tally) = corrected(ContactLanes::Scalar, &law, &m, &rows, &counts);
+    let (reference, tally) = corrected(ContactLanes::Scalar, &law, &m, &rows, &counts, true);
     eprintln!("scalar tally: {tally:?}");
     // Every channel booked something, so a channel mixed up shows.
     assert!(tally.rolling != 0.0 && tally.sliding != 0.0 && tally.twisting != 0.0);
     for lanes in [ContactLanes::Portable, ContactLanes::detected()] {
-        let (bits, got) = corrected(lanes, &law, &m, &rows, &counts);
+        let (bits, got) = corrected(lanes, &law, &m, &rows, &counts, true);
         assert!(bits == reference, "{lanes:?}: corrected pointers and twist");
         for (a, b) in [
             (got.rolling, tally.rolling),
@@ -338,5 +339,30 @@ fn the_corrections_book_the_scalar_dissipation_bits_in_lanes() {
             assert_eq!(a.to_bits(), b.to_bits(), "{lanes:?}: {got:?}");
         }
         assert_eq!(got, tally, "{lanes:?}: other channels untouched");
+    }
+}
+
+#[test]
+fn corrections_without_a_tally_leave_the_booked_corrections_bits_in_every_lane_choice() {
+    let law = law(Damping::Viscous { kappa: 1e-6 });
+    let (mut m, rows, counts) = contacts(&law, 131, 11, 1e-2);
+    let mut rng = Rng::new(5);
+    for w in m.angular_velocity.iter_mut() {
+        *w = DVec3::new(rng.normal(), rng.normal(), rng.normal()) * 1e5;
+    }
+    let (reference, _) = corrected(ContactLanes::Scalar, &law, &m, &rows, &counts, true);
+    assert!(reference != row_bits(&rows), "some contact was corrected");
+    for lanes in [
+        ContactLanes::Scalar,
+        ContactLanes::Portable,
+        ContactLanes::detected(),
+    ] {
+        let (bits, untouched) = corrected(lanes, &law, &m, &rows, &counts, false);
+        assert!(bits == reference, "{lanes:?}: corrected pointers and twist");
+        assert_eq!(
+            untouched,
+            Dissipation::default(),
+            "{lanes:?}: nothing booked"
+        );
     }
 }

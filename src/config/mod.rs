@@ -238,6 +238,9 @@ pub struct OutputConfig {
     pub snapshot_format: SnapshotChoice,
     /// A snapshot every this many rows (0: at the start and the end only).
     pub snapshot_every_rows: u64,
+    /// Book what the inelastic rolling, sliding, twisting and wall corrections dissipate
+    /// (`false`: those columns NaN, and the CPU engine skips their step energies).
+    pub tally_corrections: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -257,6 +260,7 @@ impl Default for OutputConfig {
             checkpoint_minutes: 10.0,
             snapshot_format: SnapshotChoice::Vtu,
             snapshot_every_rows: 0,
+            tally_corrections: true,
         }
     }
 }

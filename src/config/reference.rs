@@ -197,6 +197,12 @@ pub const KEYS: &[Key] = &[
     key("[output] checkpoint_minutes", "min", NonNegative, "a checkpoint at least this often, counted from the start (0: by rows only)"),
     key("[output] snapshot_format", "–", Choice(SNAPSHOTS), "`vtu` (ParaView), `lammps` (LAMMPS dump for OVITO), `both` or `none`"),
     key("[output] snapshot_every_rows", "–", Count, "a snapshot every this many rows (0: at the start and the end only)"),
+    key(
+        "[output] tally_corrections",
+        "–",
+        Bool,
+        "book the energy the inelastic rolling, sliding, twisting and wall corrections dissipate; `false` leaves `d_rolling_erg`, `d_sliding_erg`, `d_twisting_erg`, `d_walls_erg` and `energy_balance_erg` NaN and spares the CPU engine their step energies (the trajectory is the same)",
+    ),
 ];
 
 /// Placeholder in `also` for the stability limit of the default config.

@@ -243,7 +243,7 @@ impl<E: Engine> Compression<E> {
         let law = config.contact_law();
         let sample = build_sample(config, &law).map_err(RunError::Setup)?;
         let walls = build_walls(config, &law, &sample).map_err(RunError::Setup)?;
-        let engine = build(
+        let mut engine = build(
             law,
             config.dt(),
             stored_monomers(config, &sample),
@@ -251,6 +251,9 @@ impl<E: Engine> Compression<E> {
             config.integration.pair_slots,
             config.integration.wall_slots,
         )?;
+        if !config.output.tally_corrections {
+            engine.stop_tallying_corrections();
+        }
         let e = &config.experiment;
         Ok(Compression {
             kind: e.kind,

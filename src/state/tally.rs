@@ -45,6 +45,29 @@ impl Dissipation {
         }
     }
 
+    /// The tally with the channels of the inelastic corrections (rolling, sliding, twisting,
+    /// walls) marked not booked: NaN, which stays NaN whatever is added. An engine skips the
+    /// step energies that only such channels would take (`[output] tally_corrections`).
+    pub fn without_corrections(self) -> Dissipation {
+        Dissipation {
+            rolling: f64::NAN,
+            sliding: f64::NAN,
+            twisting: f64::NAN,
+            walls: f64::NAN,
+            ..self
+        }
+    }
+
+    /// Whether any pair correction channel (rolling, sliding, twisting) is booked.
+    pub fn books_pair_corrections(&self) -> bool {
+        !(self.rolling.is_nan() && self.sliding.is_nan() && self.twisting.is_nan())
+    }
+
+    /// Whether the wall channel is booked.
+    pub fn books_wall_corrections(&self) -> bool {
+        !self.walls.is_nan()
+    }
+
     /// Adds another tally channel by channel.
     pub fn add(&mut self, other: &Dissipation) {
         self.breaking += other.breaking;

@@ -46,6 +46,8 @@ struct Shared<'a> {
     walls: &'a [Wall],
     candidates: &'a [(u32, u32)],
     starts: &'a [u32],
+    /// Whether the tally books the pair and the wall corrections (their channels not NaN).
+    books: (bool, bool),
 }
 
 /// Does what `work` (contacts_scan's list) says for each listed owner: its contact events
@@ -80,6 +82,10 @@ pub fn contacts(
         walls,
         candidates,
         starts,
+        books: (
+            tally.books_pair_corrections(),
+            tally.books_wall_corrections(),
+        ),
     };
     workspace.size_wall_results(n * ws);
     let lanes = ContactLanes::chosen();
@@ -124,7 +130,8 @@ pub fn contacts(
                     rows.find(|(owner, _)| *owner == i)
                         .expect("a listed owner's row")
                 });
-                chunk_corrections(lanes, law, dt, monomers, owners, &mut dissipated);
+                let booked = shared.books.0.then_some(&mut dissipated);
+                chunk_corrections(lanes, law, dt, monomers, owners, booked);
                 Ok((dissipated, changed))
             },
         )
@@ -176,7 +183,7 @@ fn owner_work(
             i,
             &mut row.wall[..count],
             &mut wall_results[..count],
-            dissipated,
+            s.books.1.then_some(dissipated),
         );
     }
     Ok(changed)

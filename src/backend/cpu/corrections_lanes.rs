@@ -52,15 +52,19 @@ struct Booking {
 }
 
 /// The corrections of the owners `rows` lists (owner index, its contacts), `lanes` wide,
-/// their dissipation added to `tally`.
+/// their dissipation added to `tally`; with no tally (its channels not booked), the
+/// corrections alone, the same contacts to the bit without the step energies.
 pub fn chunk_corrections<'a>(
     lanes: ContactLanes,
     law: &ContactLaw,
     dt: f64,
     m: &Monomers,
     rows: impl Iterator<Item = (usize, &'a mut [PairContact])>,
-    tally: &mut Dissipation,
+    tally: Option<&mut Dissipation>,
 ) {
+    let Some(tally) = tally else {
+        return corrections_only(lanes, law, m, rows);
+    };
     if lanes == ContactLanes::Scalar {
         for (i, contacts) in rows {
             for c in contacts {
@@ -73,7 +77,7 @@ pub fn chunk_corrections<'a>(
     for (i, row) in rows {
         pending.extend(row.iter_mut().map(|c| (i, c)));
     }
-    let mut noted = Noted::with_room_for(pending.len());
+    let mut noted = Noted::with_room_for(pending.len(), true);
     match lanes {
         #[cfg(target_arch = "x86_64")]
         ContactLanes::Avx2 => {
@@ -87,6 +91,7 @@ pub fn chunk_corrections<'a>(
         states,
         contacts,
         bookings,
+        ..
     } = noted;
     let (p, v) = (&m.position, &m.velocity);
     let frames: Vec<PairFrame> = contacts
@@ -114,12 +119,43 @@ pub fn chunk_corrections<'a>(
     }
 }
 
+/// [`chunk_corrections`] without booking: the rolling and sliding corrections found as the
+/// booking path finds them, applied with the twisting one, nothing noted.
+fn corrections_only<'a>(
+    lanes: ContactLanes,
+    law: &ContactLaw,
+    m: &Monomers,
+    rows: impl Iterator<Item = (usize, &'a mut [PairContact])>,
+) {
+    let mut pending: Vec<(usize, &mut PairContact)> = Vec::with_capacity(2 * CHUNK);
+    for (i, row) in rows {
+        pending.extend(row.iter_mut().map(|c| (i, c)));
+    }
+    let mut unnoted = Noted::with_room_for(0, false);
+    match lanes {
+        ContactLanes::Scalar => {
+            for (i, c) in pending {
+                let found = Found::one_at_a_time(law, m, i, c);
+                unnoted.apply(law, i, c, found);
+            }
+        }
+        #[cfg(target_arch = "x86_64")]
+        ContactLanes::Avx2 => {
+            assert!(std::arch::is_x86_feature_detected!("avx2"));
+            // SAFETY: the processor has AVX2 (checked above).
+            unsafe { correct_avx2(law, m, &mut pending, &mut unnoted) }
+        }
+        _ => correct_in_lanes::<Portable>(law, m, &mut pending, &mut unnoted),
+    }
+}
+
 /// What the corrections noted for their step energies: every state to evaluate, in order,
-/// the corrected contacts, and which corrections each had.
+/// the corrected contacts, and which corrections each had; nothing where not `noting`.
 struct Noted {
     states: Vec<EnergyOf>,
     contacts: Vec<Corrected>,
     bookings: Vec<Booking>,
+    noting: bool,
 }
 
 /// The rolling and sliding corrections one contact needs (sliding on the pointers the rolling
@@ -146,17 +182,21 @@ impl Found {
 impl Noted {
     /// Room for `contacts` corrected contacts: the states of all four of their corrections'
     /// energies fit without growing (the growth's copies were a fifth of the notes' cost).
-    fn with_room_for(contacts: usize) -> Noted {
+    fn with_room_for(contacts: usize, noting: bool) -> Noted {
         Noted {
             states: Vec::with_capacity(4 * contacts),
             contacts: Vec::with_capacity(contacts),
             bookings: Vec::with_capacity(contacts),
+            noting,
         }
     }
 
     /// `apply_inelastic_limits` without the energies: the corrections `found` (and the
     /// twisting one) applied to contact `c` of owner `i`, the states to evaluate noted.
     fn apply(&mut self, law: &ContactLaw, i: usize, c: &mut PairContact, found: Found) {
+        if !self.noting {
+            return apply_found(law, c, found);
+        }
         let contact = self.contacts.len();
         let first = self.states.len();
         let before = *c;
@@ -198,6 +238,21 @@ impl Noted {
             self.contacts.push(Corrected { i, j });
             self.bookings.push(booking);
         }
+    }
+}
+
+/// The corrections `found` and the twisting one applied to `c`, in the scalar order.
+fn apply_found(law: &ContactLaw, c: &mut PairContact, found: Found) {
+    if let Some((n1, n2)) = found.rolled {
+        c.n1 = n1;
+        c.n2 = n2;
+    }
+    if let Some((n1, n2)) = found.slid {
+        c.n1 = n1;
+        c.n2 = n2;
+    }
+    if let Some(twist) = twisting::twisting_correction(c.twist, law.pair.phi_crit) {
+        c.twist = twist;
     }
 }
 

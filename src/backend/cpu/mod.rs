@@ -281,4 +281,7 @@ impl Engine for CpuEngine {
     fn state(&self) -> Cow<'_, State> {
         Cow::Borrowed(&self.state)
     }
+    fn stop_tallying_corrections(&mut self) {
+        self.state.tally = self.state.tally.without_corrections();
+    }
 }

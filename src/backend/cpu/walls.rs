@@ -32,7 +32,8 @@ pub struct WallResult {
 /// Inelastic limits of a wall contact (everything dissipated goes to the `walls` channel),
 /// booked as the drop of the contact's tangential step energy
 /// ([`wall_tangential_step_energy`]: a correction moves pointer, anchor and twist, never the
-/// monomer, so nothing else changes), evaluated only where a correction changed the contact.
+/// monomer, so nothing else changes), evaluated only where a correction changed the contact
+/// and there is a tally (the channel booked).
 pub fn apply_wall_inelastic_limits(
     law: &ContactLaw,
     monomers: &Monomers,
@@ -40,7 +41,7 @@ pub fn apply_wall_inelastic_limits(
     i: usize,
     wall: &Wall,
     c: &mut WallContact,
-    tally: &mut Dissipation,
+    tally: Option<&mut Dissipation>,
 ) {
     let k = &wall.constants;
     let radius = law.radius;
@@ -63,7 +64,7 @@ pub fn apply_wall_inelastic_limits(
         c.twist = twist;
         changed = true;
     }
-    if changed {
+    if let Some(tally) = tally.filter(|_| changed) {
         let motion = WallMotion {
             x,
             v: monomers.velocity[i],
@@ -75,8 +76,8 @@ pub fn apply_wall_inelastic_limits(
 }
 
 /// The wall contacts of monomer `i` (`rows`, its contacts in slot order): inelastic limits,
-/// then forces into `results` (one per slot). Twin of `wall_contacts_of` in
-/// shaders/engine/owner.wgsl.
+/// then forces into `results` (one per slot), the limits' dissipation into `tally` where
+/// there is one. Twin of `wall_contacts_of` in shaders/engine/owner.wgsl.
 #[allow(clippy::too_many_arguments)]
 pub fn wall_contacts_of(
     law: &ContactLaw,
@@ -86,12 +87,13 @@ pub fn wall_contacts_of(
     i: usize,
     rows: &mut [WallContact],
     results: &mut [WallResult],
-    tally: &mut Dissipation,
+    mut tally: Option<&mut Dissipation>,
 ) {
     let x = monomers.position[i];
     for (c, out) in rows.iter_mut().zip(results) {
         let wall = &walls[c.wall as usize];
-        apply_wall_inelastic_limits(law, monomers, dt, i, wall, c, tally);
+        let booked = tally.as_deref_mut();
+        apply_wall_inelastic_limits(law, monomers, dt, i, wall, c, booked);
         let g = wall_geometry(law, x, monomers.velocity[i], wall);
         let (force, damping, torque) = wall_interaction_at(law, &g, x, wall, c);
         *out = WallResult {
@@ -129,7 +131,7 @@ pub fn wall_contacts(
             i,
             &mut table.wall[slots.clone()],
             &mut workspace.wall_result[slots],
-            &mut tally,
+            Some(&mut tally),
         );
     }
     tally

@@ -320,4 +320,11 @@ impl Engine for GpuEngine {
     fn row_measures(&mut self, request: &RowRequest) -> Result<RowMeasures, EngineError> {
         Ok(GpuEngine::row_measures(self, request)?)
     }
+    /// The device still evaluates the corrections' energies (they cost it little); their
+    /// host totals become NaN, as the CPU engine's channels do.
+    fn stop_tallying_corrections(&mut self) {
+        let totals = Dissipation::from_channels(std::array::from_fn(|k| self.totals[k]));
+        self.totals[..7].copy_from_slice(&totals.without_corrections().channels());
+        self.diagnostics.tally = self.diagnostics.tally.without_corrections();
+    }
 }
