@@ -186,6 +186,7 @@ fn a_small_run_writes_both_tables() {
             "1",
             "--backends",
             "cpu",
+            "--untallied",
         ])
         .args(["--rounds", "1", "--out"])
         .arg(&out)
@@ -199,6 +200,7 @@ fn a_small_run_writes_both_tables() {
         "{md}"
     );
     assert!(md.contains("| 200 |"), "{md}");
+    assert!(md.contains("threads, corrections untallied |"), "{md}");
     assert!(md.contains("Cost per step"), "{md}");
     let header = csv_header(&out.join("bench.csv"));
     for column in [
@@ -207,6 +209,7 @@ fn a_small_run_writes_both_tables() {
         "cpu_t1_steps",
         "cpu_t1_rate",
         "cpu_all_rate",
+        "cpu_all_untallied_rate",
         "peak_rss_mib",
         "cpu_t1_us_forces",
     ] {
@@ -215,10 +218,12 @@ fn a_small_run_writes_both_tables() {
     let text = std::fs::read_to_string(out.join("bench.csv")).unwrap();
     let row: Vec<&str> = text.lines().last().unwrap().split(',').collect();
     assert_eq!(row.len(), header.len());
-    let rate: f64 = row[header.iter().position(|h| h == "cpu_t1_rate").unwrap()]
-        .parse()
-        .unwrap();
-    assert!(rate > 0.0);
+    for side in ["cpu_t1_rate", "cpu_all_untallied_rate"] {
+        let rate: f64 = row[header.iter().position(|h| h == side).unwrap()]
+            .parse()
+            .unwrap();
+        assert!(rate > 0.0, "{side} {rate}");
+    }
 }
 
 #[test]

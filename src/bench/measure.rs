@@ -22,6 +22,9 @@ pub enum SideKind {
     Cpu(Threads),
     /// The CPU engine with the monomers in the sample's order (no space-filling order).
     CpuSampleOrder(Threads),
+    /// The CPU engine not booking the corrections' dissipation (`[output] tally_corrections
+    /// = false`).
+    CpuUntallied(Threads),
     Gpu(Precision),
     Lammps {
         ranks: usize,
@@ -38,11 +41,21 @@ pub struct Side {
     pub label: String,
 }
 
+impl SideKind {
+    /// Whether this side is the CPU engine (any of its variants).
+    pub fn is_cpu(self) -> bool {
+        matches!(
+            self,
+            SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) | SideKind::CpuUntallied(_)
+        )
+    }
+}
+
 impl Side {
     /// The pass (or section) names this side reports times for.
     pub fn pass_names(&self) -> Vec<String> {
         match self.kind {
-            SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) => {
+            SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) | SideKind::CpuUntallied(_) => {
                 PASS_NAMES.iter().map(|s| s.to_string()).collect()
             }
             SideKind::Gpu(_) => GpuEngine::passes()
@@ -77,6 +90,16 @@ pub fn sides(options: &Options) -> Vec<Side> {
             kind: SideKind::CpuSampleOrder(Threads::All),
             key: "cpu_all_sample_order".into(),
             label: format!("cpu, all {} threads, sample order", Threads::All.resolve()),
+        });
+    }
+    if options.untallied && !options.threads.is_empty() {
+        sides.push(Side {
+            kind: SideKind::CpuUntallied(Threads::All),
+            key: "cpu_all_untallied".into(),
+            label: format!(
+                "cpu, all {} threads, corrections untallied",
+                Threads::All.resolve()
+            ),
         });
     }
     for &precision in &options.gpu {

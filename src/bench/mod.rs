@@ -201,7 +201,9 @@ pub fn run_bench(options: &Options, progress: &dyn Fn(&str)) -> Result<Report, S
     let pools = sides
         .iter()
         .map(|s| match s.kind {
-            SideKind::Cpu(t) | SideKind::CpuSampleOrder(t) => pool(t.resolve()).map(Some),
+            SideKind::Cpu(t) | SideKind::CpuSampleOrder(t) | SideKind::CpuUntallied(t) => {
+                pool(t.resolve()).map(Some)
+            }
             _ => Ok(None),
         })
         .collect::<Result<Vec<_>, _>>()?;
@@ -287,8 +289,11 @@ fn measure_size(
     } else {
         None
     };
+    let mut untallied_start = start.clone();
+    crate::engine::Engine::stop_tallying_corrections(&mut untallied_start);
     let start_of = |kind: &SideKind| match kind {
         SideKind::CpuSampleOrder(_) => sample_order_start.as_ref().expect("checked below"),
+        SideKind::CpuUntallied(_) => &untallied_start,
         _ => &start,
     };
     let contacts_per_monomer = 2.0 * start.contacts.pair_contact_count() as f64 / n as f64;
@@ -312,7 +317,7 @@ fn measure_size(
             continue;
         }
         let probed = match side.kind {
-            SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) => {
+            SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) | SideKind::CpuUntallied(_) => {
                 let pool = setup.pools[i].as_ref().expect("a pool per cpu side");
                 let mut e = start_of(&side.kind).clone();
                 probe(|k| measure::time_cpu(pool, &mut e, k), at_least, room)
@@ -366,7 +371,7 @@ fn measure_size(
             }
             let steps = r.steps;
             let timed = match side.kind {
-                SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) => {
+                SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) | SideKind::CpuUntallied(_) => {
                     let pool = setup.pools[i].as_ref().expect("a pool per cpu side");
                     let mut e = start_of(&side.kind).clone();
                     e.pass_seconds = [0.0; 5];

@@ -81,6 +81,9 @@ pub struct Options {
     /// Also time the CPU engine on all threads with the monomers in the sample's order, to
     /// show what the space-filling storage order gains.
     pub sample_order: bool,
+    /// Also time the CPU engine on all threads without booking the corrections' dissipation
+    /// (`[output] tally_corrections = false`; LAMMPS keeps no such tally).
+    pub untallied: bool,
     /// The starting states measured at every N, in order.
     pub samples: Vec<SampleState>,
     /// Top wall speed [m/s] that compresses the compressed states and goes on while they are
@@ -102,6 +105,7 @@ impl Default for Options {
             gpu: vec![Precision::Exact],
             lammps: false,
             sample_order: false,
+            untallied: false,
             samples: vec![SampleState::Fresh],
             prepare_speed_m_s: 1.0,
             out: PathBuf::from("bench"),
@@ -149,6 +153,7 @@ impl Options {
             gpu,
             lammps,
             sample_order: false,
+            untallied: false,
             samples: vec![SampleState::Fresh],
             prepare_speed_m_s: 1.0,
             out,

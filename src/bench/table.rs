@@ -41,6 +41,10 @@ pub fn ratio_specs(sides: &[Side]) -> Vec<RatioSpec> {
     add(gpu, all.or(one));
     add(mixed, gpu.or(all).or(one));
     add(all, find(SideKind::CpuSampleOrder(Threads::All)));
+    add(
+        find(SideKind::CpuUntallied(Threads::All)),
+        find(SideKind::Lammps { ranks: 2 }),
+    );
     specs
 }
 
@@ -143,7 +147,7 @@ pub fn markdown(report: &Report) -> String {
         match side.kind {
             SideKind::Gpu(_) => head.push(format!("{} buffers MiB", side.label)),
             SideKind::Lammps { .. } => head.push(format!("{} MiB/rank", side.label)),
-            SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) => {}
+            _ => {}
         }
     }
     if o.lammps {
@@ -162,7 +166,7 @@ pub fn markdown(report: &Report) -> String {
         row.extend(specs.iter().map(|r| ratio_cell(&ratios(size, r))));
         row.push(opt(size.peak_rss_bytes.map(|b| b as f64 / MIB), 0));
         for (side, r) in report.sides.iter().zip(&size.sides) {
-            if !matches!(side.kind, SideKind::Cpu(_) | SideKind::CpuSampleOrder(_)) {
+            if !side.kind.is_cpu() {
                 row.push(opt(r.memory_mib, 1));
             }
         }
@@ -216,7 +220,7 @@ pub fn markdown(report: &Report) -> String {
             match side.kind {
                 SideKind::Lammps { .. } => "section of LAMMPS's timing breakdown (mean over ranks)",
                 SideKind::Gpu(_) => "kernel (timestamps around every dispatch of 20 steps)",
-                SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) => "pass",
+                _ => "pass",
             }
         ));
         line("");
@@ -274,7 +278,7 @@ pub fn csv_header(report: &Report) -> Vec<String> {
         match side.kind {
             SideKind::Gpu(_) => h.push(format!("{}_buffers_mib", side.key)),
             SideKind::Lammps { .. } => h.push(format!("{}_mib_per_rank", side.key)),
-            SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) => {}
+            _ => {}
         }
     }
     if report.options.lammps {
@@ -340,7 +344,7 @@ pub fn csv(report: &Report) -> String {
         }
         row.push(cell(size.peak_rss_bytes.map(|b| b as f64 / MIB)));
         for (side, r) in report.sides.iter().zip(&size.sides) {
-            if !matches!(side.kind, SideKind::Cpu(_) | SideKind::CpuSampleOrder(_)) {
+            if !side.kind.is_cpu() {
                 row.push(cell(r.memory_mib));
             }
         }

@@ -185,6 +185,10 @@ pub(super) enum Command {
         /// order instead of the space-filling order, to show what that order gains.
         #[arg(long)]
         sample_order: bool,
+        /// Also time the CPU engine on all threads without booking the inelastic corrections'
+        /// dissipation (`[output] tally_corrections = false`), with its ratio to LAMMPS.
+        #[arg(long)]
+        untallied: bool,
         /// Starting states, comma-separated: `fresh` (the RBD sample) and filling factors
         /// (0.16 to 0.6) the engine first compresses the sample to, e.g. `fresh,0.3,0.45`;
         /// compressed states are stored under <out>/states and reused.

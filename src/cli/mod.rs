@@ -116,6 +116,7 @@ pub fn main() -> ExitCode {
             backends,
             lammps,
             sample_order,
+            untallied,
             samples,
             prepare_speed,
             out,
@@ -124,6 +125,7 @@ pub fn main() -> ExitCode {
             .and_then(|o| {
                 bench(BenchOptions {
                     sample_order,
+                    untallied,
                     // This executable runs the whole runs of `--lammps`.
                     dustdem_exe: std::env::current_exe().ok(),
                     ..o

@@ -328,3 +328,75 @@ mod engine_tests {
         assert!(updated_steps >= 10, "{updated_steps} steps changed rows");
     }
 }
+
+#[cfg(test)]
+mod event_tests {
+    use super::PartnerIndex;
+    use crate::backend::cpu::CpuEngine;
+    use crate::backend::script::Kernel;
+    use crate::material::Material;
+    use crate::model::{ContactLaw, ModelOptions};
+    use crate::state::Monomers;
+    use glam::DVec3;
+
+    fn law() -> ContactLaw {
+        ContactLaw::new(&Material::silicate(), &ModelOptions::default())
+    }
+
+    /// Moves the monomers by hand, makes the index current again (as the forces pass does
+    /// after a change from outside), and takes one step: its contact events go through
+    /// `update`. Then the index must be what a rebuild gives.
+    fn step_after_moving(e: &mut CpuEngine, moved: &[(usize, DVec3)]) {
+        for &(i, x) in moved {
+            e.monomers.position[i] = x;
+        }
+        e.run_pass(Kernel::Forces).unwrap();
+        assert!(e.workspace.partner_index_current);
+        e.run(1).unwrap();
+        let mut fresh = PartnerIndex::default();
+        fresh.rebuild(&e.contacts);
+        assert_eq!(e.workspace.incoming.owner_start(), fresh.owner_start());
+        for j in 0..e.monomers.len() {
+            let kept: Vec<u32> = e.workspace.incoming.of(j).collect();
+            assert_eq!(kept, fresh.of(j).collect::<Vec<u32>>(), "partner {j}");
+        }
+    }
+
+    #[test]
+    fn a_row_that_loses_one_contact_and_gains_another_in_one_step_is_followed() {
+        // 0–1 in contact from the start; then 1 pulled away and 2 pushed onto 0: the same
+        // count of contacts in 0's row, another partner.
+        let r = law().radius;
+        let m = Monomers::new(vec![
+            DVec3::ZERO,
+            DVec3::new(1.99 * r, 0.0, 0.0),
+            DVec3::new(0.0, 2.1 * r, 0.0),
+        ]);
+        let mut e = CpuEngine::new(law(), 1e-10, m, vec![], 12, 3).unwrap();
+        assert_eq!(e.contacts.pair_count[0], 1);
+        step_after_moving(
+            &mut e,
+            &[
+                (1, DVec3::new(2.15 * r, 0.0, 0.0)),
+                (2, DVec3::new(0.0, 1.99 * r, 0.0)),
+            ],
+        );
+        let partners: Vec<u32> = e.contacts.pairs_of(0).iter().map(|c| c.partner).collect();
+        assert_eq!(partners, [2], "the events swapped the partner");
+    }
+
+    #[test]
+    fn contacts_outgrowing_a_monomers_room_in_one_step_rebuild_the_index() {
+        // Five monomers around monomer 5, none touching at the start (room 0 + 2), all
+        // pushed onto it at once.
+        let r = law().radius;
+        let around = [DVec3::X, -DVec3::X, DVec3::Y, -DVec3::Y, DVec3::Z];
+        let mut x: Vec<DVec3> = around.iter().map(|d| *d * 2.1 * r).collect();
+        x.push(DVec3::ZERO);
+        let mut e = CpuEngine::new(law(), 1e-10, Monomers::new(x), vec![], 12, 3).unwrap();
+        assert_eq!(e.contacts.pair_contact_count(), 0);
+        let pushed: Vec<(usize, DVec3)> = (0..5).map(|i| (i, around[i] * 1.99 * r)).collect();
+        step_after_moving(&mut e, &pushed);
+        assert_eq!(e.contacts.pair_contact_count(), 5);
+    }
+}
