@@ -239,8 +239,15 @@ pub struct OutputConfig {
     /// A snapshot every this many rows (0: at the start and the end only).
     pub snapshot_every_rows: u64,
     /// Book what the inelastic rolling, sliding, twisting and wall corrections dissipate
-    /// (`false`: those columns NaN, and the CPU engine skips their step energies).
+    /// (`false`: those columns NaN, and the CPU engine skips their step energies). Written
+    /// back only when off: a config's text is the key of cached calibration runs and of
+    /// prepared benchmark states, which a key added with its default must not change.
+    #[serde(skip_serializing_if = "is_true")]
     pub tally_corrections: bool,
+}
+
+fn is_true(flag: &bool) -> bool {
+    *flag
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

@@ -202,6 +202,10 @@ pub const KEYS: &[Key] = &[
         "–",
         Bool,
         "book the energy the inelastic rolling, sliding, twisting and wall corrections dissipate; `false` leaves `d_rolling_erg`, `d_sliding_erg`, `d_twisting_erg`, `d_walls_erg` and `energy_balance_erg` NaN and spares the CPU engine their step energies (the trajectory is the same)",
+    )
+    .absent(
+        "[output]\ntally_corrections = false\n",
+        "`true` (a config written back names it only when `false`)",
     ),
 ];
 

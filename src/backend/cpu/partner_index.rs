@@ -290,46 +290,6 @@ mod tests {
 }
 
 #[cfg(test)]
-mod engine_tests {
-    use super::PartnerIndex;
-
-    /// Step by step through a fresh sample's first contact events, the index the contacts pass
-    /// keeps up to date lists what a full rebuild from the table lists.
-    #[test]
-    fn the_updated_index_follows_the_table_through_contact_events() {
-        let mut e = crate::bench::benchmark_engine(&crate::bench::benchmark_config(1000).unwrap())
-            .unwrap()
-            .0;
-        let (mut updated_steps, n) = (0, e.monomers.len());
-        assert!(
-            e.workspace.partner_index_current,
-            "built by the start's forces"
-        );
-        for _ in 0..3000 {
-            let partners = |e: &crate::backend::cpu::CpuEngine| -> Vec<Vec<u32>> {
-                (0..n)
-                    .map(|i| e.contacts.pairs_of(i).iter().map(|c| c.partner).collect())
-                    .collect()
-            };
-            let before = partners(&e);
-            e.run(1).unwrap();
-            if before != partners(&e) && e.workspace.partner_index_current {
-                updated_steps += 1;
-            }
-            let mut fresh = PartnerIndex::default();
-            fresh.rebuild(&e.contacts);
-            assert_eq!(e.workspace.incoming.owner_start(), fresh.owner_start());
-            for j in 0..n {
-                let (kept, rebuilt): (Vec<u32>, Vec<u32>) =
-                    (e.workspace.incoming.of(j).collect(), fresh.of(j).collect());
-                assert_eq!(kept, rebuilt, "partner {j} at step {}", e.step);
-            }
-        }
-        assert!(updated_steps >= 10, "{updated_steps} steps changed rows");
-    }
-}
-
-#[cfg(test)]
 mod event_tests {
     use super::PartnerIndex;
     use crate::backend::cpu::CpuEngine;
