@@ -4,6 +4,7 @@
 
 use super::{stable_time_step, Config, ExperimentKind, FootprintKind, SampleSource, SampleTop};
 use crate::model::Damping;
+use crate::state::MAX_PAIR_SLOTS;
 use std::fmt;
 use std::path::Path;
 
@@ -220,11 +221,11 @@ impl Config {
         );
         let i = &self.integration;
         c.positive("[integration] dt_ns", i.dt_ns);
-        if !(1..=64).contains(&i.pair_slots) {
+        if !(1..=MAX_PAIR_SLOTS).contains(&i.pair_slots) {
             c.fail(
                 "[integration] pair_slots",
                 i.pair_slots,
-                "must be between 1 and 64",
+                format!("must be between 1 and {MAX_PAIR_SLOTS}"),
             );
         }
         if !(1..=6).contains(&i.wall_slots) {

@@ -5,6 +5,9 @@ use glam::DVec3;
 
 /// Contact slots per monomer for partners of higher index (equal spheres touch at most 12).
 pub const DEFAULT_PAIR_SLOTS: usize = 12;
+/// The most pair slots a configuration may give a monomer (the contacts pass keeps a row's
+/// partners on the stack).
+pub const MAX_PAIR_SLOTS: usize = 64;
 /// Wall contact slots per monomer (a box corner touches 3 walls).
 pub const DEFAULT_WALL_SLOTS: usize = 3;
 

@@ -19,7 +19,7 @@ pub mod tally;
 pub mod walls;
 
 pub use contacts::{
-    ContactTable, PairContact, WallContact, DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS,
+    ContactTable, PairContact, WallContact, DEFAULT_PAIR_SLOTS, DEFAULT_WALL_SLOTS, MAX_PAIR_SLOTS,
 };
 pub use energy::EnergyReport;
 pub use monomers::Monomers;

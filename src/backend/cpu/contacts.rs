@@ -17,11 +17,10 @@ use crate::backend::script::{OWNER_CORRECTIONS, OWNER_EVENTS, OWNER_INDEX, OWNER
 use crate::engine::EngineError;
 use crate::model::{wall as wall_law, ContactLaw};
 use crate::state::interaction::{pair_step_energy, wall_step_energy};
-use crate::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
+use crate::state::{
+    ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact, MAX_PAIR_SLOTS,
+};
 use rayon::prelude::*;
-
-/// The most pair slots a configuration may give a monomer (`[integration] pair_slots`).
-const MAX_PAIR_SLOTS: usize = 64;
 
 /// One owner's row of the table.
 struct Row<'a> {
