@@ -193,6 +193,9 @@ impl Noted {
 
     /// `apply_inelastic_limits` without the energies: the corrections `found` (and the
     /// twisting one) applied to contact `c` of owner `i`, the states to evaluate noted.
+    // Called per corrected contact from the lanes' loop: as a call it cost 3 % of a
+    // compressed sample's step instructions and about 10 % of its time.
+    #[inline(always)]
     fn apply(&mut self, law: &ContactLaw, i: usize, c: &mut PairContact, found: Found) {
         if !self.noting {
             return apply_found(law, c, found);
