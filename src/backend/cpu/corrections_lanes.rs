@@ -60,12 +60,9 @@ pub fn chunk_corrections<'a>(
     dt: f64,
     m: &Monomers,
     rows: impl Iterator<Item = (usize, &'a mut [PairContact])>,
-    tally: Option<&mut Dissipation>,
+    mut tally: Option<&mut Dissipation>,
 ) {
-    let Some(tally) = tally else {
-        return corrections_only(lanes, law, m, rows);
-    };
-    if lanes == ContactLanes::Scalar {
+    if let (ContactLanes::Scalar, Some(tally)) = (lanes, tally.as_deref_mut()) {
         for (i, contacts) in rows {
             for c in contacts {
                 apply_inelastic_limits(law, m, dt, i, c, tally);
@@ -77,8 +74,16 @@ pub fn chunk_corrections<'a>(
     for (i, row) in rows {
         pending.extend(row.iter_mut().map(|c| (i, c)));
     }
-    let mut noted = Noted::with_room_for(pending.len(), true);
+    // Without a tally nothing is noted: the corrections alone, found as the booking path
+    // finds them.
+    let mut noted = Noted::with_room_for(pending.len(), tally.is_some());
     match lanes {
+        ContactLanes::Scalar => {
+            for (i, c) in pending {
+                let found = Found::one_at_a_time(law, m, i, c);
+                noted.apply(law, i, c, found);
+            }
+        }
         #[cfg(target_arch = "x86_64")]
         ContactLanes::Avx2 => {
             assert!(std::arch::is_x86_feature_detected!("avx2"));
@@ -87,6 +92,9 @@ pub fn chunk_corrections<'a>(
         }
         _ => correct_in_lanes::<Portable>(law, m, &mut pending, &mut noted),
     }
+    let Some(tally) = tally else {
+        return;
+    };
     let Noted {
         states,
         contacts,
@@ -116,36 +124,6 @@ pub fn chunk_corrections<'a>(
         if b.twisted {
             book(&mut tally.twisting);
         }
-    }
-}
-
-/// [`chunk_corrections`] without booking: the rolling and sliding corrections found as the
-/// booking path finds them, applied with the twisting one, nothing noted.
-fn corrections_only<'a>(
-    lanes: ContactLanes,
-    law: &ContactLaw,
-    m: &Monomers,
-    rows: impl Iterator<Item = (usize, &'a mut [PairContact])>,
-) {
-    let mut pending: Vec<(usize, &mut PairContact)> = Vec::with_capacity(2 * CHUNK);
-    for (i, row) in rows {
-        pending.extend(row.iter_mut().map(|c| (i, c)));
-    }
-    let mut unnoted = Noted::with_room_for(0, false);
-    match lanes {
-        ContactLanes::Scalar => {
-            for (i, c) in pending {
-                let found = Found::one_at_a_time(law, m, i, c);
-                unnoted.apply(law, i, c, found);
-            }
-        }
-        #[cfg(target_arch = "x86_64")]
-        ContactLanes::Avx2 => {
-            assert!(std::arch::is_x86_feature_detected!("avx2"));
-            // SAFETY: the processor has AVX2 (checked above).
-            unsafe { correct_avx2(law, m, &mut pending, &mut unnoted) }
-        }
-        _ => correct_in_lanes::<Portable>(law, m, &mut pending, &mut unnoted),
     }
 }
 
@@ -183,10 +161,11 @@ impl Noted {
     /// Room for `contacts` corrected contacts: the states of all four of their corrections'
     /// energies fit without growing (the growth's copies were a fifth of the notes' cost).
     fn with_room_for(contacts: usize, noting: bool) -> Noted {
+        let room = if noting { contacts } else { 0 };
         Noted {
-            states: Vec::with_capacity(4 * contacts),
-            contacts: Vec::with_capacity(contacts),
-            bookings: Vec::with_capacity(contacts),
+            states: Vec::with_capacity(4 * room),
+            contacts: Vec::with_capacity(room),
+            bookings: Vec::with_capacity(room),
             noting,
         }
     }
