@@ -52,7 +52,7 @@ fn main() {
         for _ in 0..steps {
             for (k, &p) in STEP.iter().enumerate() {
                 let c = Instant::now();
-                e.run_pass(p).unwrap();
+                e.run_step_pass(p).unwrap();
                 t[k] += c.elapsed().as_secs_f64();
             }
         }

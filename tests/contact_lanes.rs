@@ -4,7 +4,7 @@
 //! batch stop after different iterations), owners with 0 to 12 contacts (batches that span
 //! owners, a last batch of fewer than four), and each damping law.
 
-use dustdem::backend::cpu::corrections_lanes::chunk_corrections;
+use dustdem::backend::cpu::corrections_lanes::{chunk_corrections, Noted};
 use dustdem::backend::cpu::forces::PairResult;
 use dustdem::backend::cpu::forces_lanes::{
     chunk_forces, jkr_contact_radius_ratio_lanes, ContactLanes, OwnerChunk,
@@ -265,7 +265,7 @@ fn advanced(
         prefetching: true,
     };
     // dt large enough that pointers turn measurably and some contacts cross their limits.
-    chunk_pairs(lanes, law, 3e-10, m, chunk, &mut tests);
+    chunk_pairs(lanes, law, 3e-10, m, chunk, &mut tests, None);
     (row_bits(&rows), tests)
 }
 
@@ -364,5 +364,109 @@ fn corrections_without_a_tally_leave_the_booked_corrections_bits_in_every_lane_c
             Dissipation::default(),
             "{lanes:?}: nothing booked"
         );
+    }
+}
+
+/// The pair half of the leap-frog in the CPU step's form (`noted`: corrections applied as the
+/// contacts are advanced): rows, tests and the booked tally.
+fn advanced_and_corrected(
+    lanes: ContactLanes,
+    law: &ContactLaw,
+    m: &Monomers,
+    rows: &[PairContact],
+    counts: &[u32],
+) -> (Vec<u64>, Vec<u32>, Dissipation) {
+    let mut rows = rows.to_vec();
+    let mut tests = vec![u32::MAX; counts.len()];
+    let chunk = PairChunk {
+        rows: &mut rows,
+        slots: SLOTS,
+        counts,
+        first: 0,
+        prefetching: true,
+    };
+    let mut noted = Noted::with_room_for(rows_len(counts), true);
+    chunk_pairs(lanes, law, DT, m, chunk, &mut tests, Some(&mut noted));
+    let mut tally = Dissipation::default();
+    noted.book(lanes, law, DT, m, &mut tally);
+    (row_bits(&rows), tests, tally)
+}
+
+const DT: f64 = 3e-10;
+
+fn rows_len(counts: &[u32]) -> usize {
+    counts.iter().sum::<u32>() as usize
+}
+
+/// The device's order on the same contacts: advanced (`chunk_pairs` without corrections), the
+/// monomers drifted, then every contact that does not break (δ < −δ_c, a breaking contact
+/// leaves the table first) through the contacts pass's corrections, owner by owner in order.
+fn advanced_then_corrected(
+    law: &ContactLaw,
+    m: &Monomers,
+    rows: &[PairContact],
+    counts: &[u32],
+) -> (Vec<u64>, Dissipation) {
+    let mut rows = rows.to_vec();
+    let mut tests = vec![0; counts.len()];
+    let chunk = PairChunk {
+        rows: &mut rows,
+        slots: SLOTS,
+        counts,
+        first: 0,
+        prefetching: true,
+    };
+    chunk_pairs(ContactLanes::Scalar, law, DT, m, chunk, &mut tests, None);
+    let mut drifted = m.clone();
+    for (x, v) in drifted.position.iter_mut().zip(&m.velocity) {
+        *x += *v * DT;
+    }
+    let x = &drifted.position;
+    let mut tally = Dissipation::default();
+    let staying = rows
+        .chunks_mut(SLOTS)
+        .zip(counts)
+        .enumerate()
+        .flat_map(|(i, (row, &count))| row[..count as usize].iter_mut().map(move |c| (i, c)))
+        .filter(|(i, c)| {
+            let delta = 2.0 * law.radius - (x[*i] - x[c.partner as usize]).length();
+            delta >= -law.pair.delta_c
+        })
+        .map(|(i, c)| (i, std::slice::from_mut(c)));
+    chunk_corrections(
+        ContactLanes::Scalar,
+        law,
+        DT,
+        &drifted,
+        staying,
+        Some(&mut tally),
+    );
+    (row_bits(&rows), tally)
+}
+
+#[test]
+fn corrections_made_as_the_pairs_advance_are_the_contacts_pass_corrections_in_every_lane_choice() {
+    let law = law(Damping::Viscous { kappa: 1e-6 });
+    let (mut m, rows, counts) = contacts(&law, 131, 11, 1e-2);
+    let mut rng = Rng::new(21);
+    for w in m.angular_velocity.iter_mut() {
+        *w = DVec3::new(rng.normal(), rng.normal(), rng.normal()) * 1e5;
+    }
+    let (reference, tests, tally) =
+        advanced_and_corrected(ContactLanes::Scalar, &law, &m, &rows, &counts);
+    eprintln!("tally {tally:?}");
+    assert!(tally.rolling != 0.0 && tally.sliding != 0.0 && tally.twisting != 0.0);
+    // Owners with breaking contacts keep that test; none is listed for corrections any more.
+    assert!(tests.iter().filter(|&&t| t == 1).count() > 10);
+    assert!(tests.iter().all(|&t| t <= 1), "no test says beyond");
+    let (device_order, device_tally) = advanced_then_corrected(&law, &m, &rows, &counts);
+    assert!(reference == device_order, "the contacts pass's corrections");
+    assert_eq!(tally, device_tally, "the same drops in the same order");
+    for lanes in [ContactLanes::Portable, ContactLanes::detected()] {
+        let (bits, got_tests, got) = advanced_and_corrected(lanes, &law, &m, &rows, &counts);
+        assert!(bits == reference, "{lanes:?}: pointers and twist");
+        assert_eq!(got_tests, tests, "{lanes:?}: tests");
+        let channels = |d: &Dissipation| [d.rolling, d.sliding, d.twisting].map(f64::to_bits);
+        assert_eq!(channels(&got), channels(&tally), "{lanes:?}: {got:?}");
     }
 }

@@ -11,7 +11,7 @@ use dustdem::binary::Encoder;
 use dustdem::config::Config;
 use dustdem::engine::Engine;
 use dustdem::experiment::compression::Compression;
-use dustdem::state::State;
+use dustdem::state::{ContactTable, State};
 
 const STEPS: u64 = 2000;
 
@@ -38,6 +38,16 @@ fn run_in_pool(threads: usize) -> CpuEngine {
         run.engine.run(STEPS).unwrap();
         run.engine
     })
+}
+
+/// The contacts slot for slot up to each count. A slot above its count holds what a broken
+/// contact's swap left there, which the CPU step's corrections (in `integrate_pairs`, before
+/// the events) and the device's (in `contacts`, after them) leave different: no state.
+fn same_contacts(a: &ContactTable, b: &ContactTable) -> bool {
+    let n = a.pair_count.len();
+    a.pair_count == b.pair_count
+        && a.wall_count == b.wall_count
+        && (0..n).all(|i| a.pairs_of(i) == b.pairs_of(i) && a.walls_of(i) == b.walls_of(i))
 }
 
 fn encoded(state: &State) -> Vec<u8> {
@@ -96,7 +106,7 @@ fn the_gpu_exact_mode_gives_the_cpu_bits() {
     assert_eq!(a.angular_velocity, b.angular_velocity);
     assert_eq!(a.force, b.force);
     assert_eq!(a.torque, b.torque);
-    assert_eq!(cpu.contacts, g.contacts);
+    assert!(same_contacts(&cpu.contacts, &g.contacts), "contact tables");
     assert_eq!(cpu.walls, g.walls);
     // Both sum the per-slot wall forces in `reduce_walls`'s blocks.
     assert_eq!(cpu.wall_force, g.wall_force);

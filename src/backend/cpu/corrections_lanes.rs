@@ -77,11 +77,13 @@ pub fn chunk_corrections<'a>(
     // Without a tally nothing is noted: the corrections alone, found as the booking path
     // finds them.
     let mut noted = Noted::with_room_for(pending.len(), tally.is_some());
+    let (p, v) = (&m.position, &m.velocity);
     match lanes {
         ContactLanes::Scalar => {
             for (i, c) in pending {
-                let found = Found::one_at_a_time(law, m, i, c);
-                noted.apply(law, i, c, found);
+                let j = c.partner as usize;
+                let found = Found::at(law, p[i], p[j], c);
+                noted.apply(law, i, c, found, || pair_frame(p[i], p[j], v[i], v[j]));
             }
         }
         #[cfg(target_arch = "x86_64")]
@@ -92,21 +94,37 @@ pub fn chunk_corrections<'a>(
         }
         _ => correct_in_lanes::<Portable>(law, m, &mut pending, &mut noted),
     }
-    let Some(tally) = tally else {
-        return;
-    };
-    let Noted {
-        states,
-        contacts,
-        bookings,
-        ..
-    } = noted;
-    let (p, v) = (&m.position, &m.velocity);
-    let frames: Vec<PairFrame> = contacts
-        .iter()
-        .map(|&Corrected { i, j }| pair_frame(p[i], p[j], v[i], v[j]))
-        .collect();
-    let energies = step_energies(lanes, law, dt, m, &contacts, &frames, &states);
+    if let Some(tally) = tally {
+        noted.book(lanes, law, dt, m, tally);
+    }
+}
+
+impl Noted {
+    /// Books what the noted corrections dissipated into `tally`: the step energies of every
+    /// noted state, `lanes` wide, then the drops channel by channel in the order noted (owner,
+    /// contact, rolling before sliding before twisting), the scalar code's order and bits.
+    pub fn book(
+        self,
+        lanes: ContactLanes,
+        law: &ContactLaw,
+        dt: f64,
+        m: &Monomers,
+        tally: &mut Dissipation,
+    ) {
+        let Noted {
+            states,
+            contacts,
+            frames,
+            bookings,
+            ..
+        } = self;
+        let energies = step_energies(lanes, law, dt, m, &contacts, &frames, &states);
+        book_drops(&bookings, &energies, tally);
+    }
+}
+
+/// The drops of the step energies `energies` booked channel by channel, contact by contact.
+fn book_drops(bookings: &[Booking], energies: &[f64], tally: &mut Dissipation) {
     for b in bookings {
         let mut e = energies[b.first..].iter();
         let mut before = *e.next().expect("the state before");
@@ -128,28 +146,30 @@ pub fn chunk_corrections<'a>(
 }
 
 /// What the corrections noted for their step energies: every state to evaluate, in order,
-/// the corrected contacts, and which corrections each had; nothing where not `noting`.
-struct Noted {
+/// the corrected contacts with their frames, and which corrections each had; nothing where
+/// not `noting`.
+pub struct Noted {
     states: Vec<EnergyOf>,
     contacts: Vec<Corrected>,
+    frames: Vec<PairFrame>,
     bookings: Vec<Booking>,
     noting: bool,
 }
 
 /// The rolling and sliding corrections one contact needs (sliding on the pointers the rolling
 /// correction left), found four at a time or one at a time.
-struct Found {
-    rolled: Option<(DVec3, DVec3)>,
-    slid: Option<(DVec3, DVec3)>,
+pub(super) struct Found {
+    pub(super) rolled: Option<(DVec3, DVec3)>,
+    pub(super) slid: Option<(DVec3, DVec3)>,
 }
 
 impl Found {
-    /// The scalar code's: `rolling_correction`, then `sliding_correction`.
-    fn one_at_a_time(law: &ContactLaw, m: &Monomers, i: usize, c: &PairContact) -> Found {
+    /// The scalar code's, for the contact's monomers at `x1` and `x2`: `rolling_correction`,
+    /// then `sliding_correction`.
+    pub(super) fn at(law: &ContactLaw, x1: DVec3, x2: DVec3, c: &PairContact) -> Found {
         let k = &law.pair;
         let r = law.radius;
-        let p = &m.position;
-        let nc = (p[i] - p[c.partner as usize]).normalize();
+        let nc = (x1 - x2).normalize();
         let rolled = rolling::rolling_correction(c.n1, c.n2, k.reduced_radius, k.xi_crit);
         let (a, b) = rolled.unwrap_or((c.n1, c.n2));
         let slid = sliding::sliding_correction(a, b, nc, r, r, k.zeta_crit);
@@ -160,22 +180,31 @@ impl Found {
 impl Noted {
     /// Room for `contacts` corrected contacts: the states of all four of their corrections'
     /// energies fit without growing (the growth's copies were a fifth of the notes' cost).
-    fn with_room_for(contacts: usize, noting: bool) -> Noted {
+    pub fn with_room_for(contacts: usize, noting: bool) -> Noted {
         let room = if noting { contacts } else { 0 };
         Noted {
             states: Vec::with_capacity(4 * room),
             contacts: Vec::with_capacity(room),
+            frames: Vec::with_capacity(room),
             bookings: Vec::with_capacity(room),
             noting,
         }
     }
 
     /// `apply_inelastic_limits` without the energies: the corrections `found` (and the
-    /// twisting one) applied to contact `c` of owner `i`, the states to evaluate noted.
+    /// twisting one) applied to contact `c` of owner `i`, the states to evaluate noted with
+    /// the contact's `frame` (made only for a contact corrected).
     // Called per corrected contact from the lanes' loop: as a call it cost 3 % of a
     // compressed sample's step instructions and about 10 % of its time.
     #[inline(always)]
-    fn apply(&mut self, law: &ContactLaw, i: usize, c: &mut PairContact, found: Found) {
+    pub(super) fn apply(
+        &mut self,
+        law: &ContactLaw,
+        i: usize,
+        c: &mut PairContact,
+        found: Found,
+        frame: impl FnOnce() -> PairFrame,
+    ) {
         if !self.noting {
             return apply_found(law, c, found);
         }
@@ -218,6 +247,7 @@ impl Noted {
         if booking.rolled || booking.slid || booking.twisted {
             let j = c.partner as usize;
             self.contacts.push(Corrected { i, j });
+            self.frames.push(frame());
             self.bookings.push(booking);
         }
     }
@@ -260,7 +290,7 @@ fn correct_in_lanes<S: Isa>(
     noted: &mut Noted,
 ) {
     let k = &law.pair;
-    let p = &m.position;
+    let (p, v) = (&m.position, &m.velocity);
     let mut batches = pending.chunks_exact_mut(4);
     for four in &mut batches {
         let x1 = V4::<S>::gather(|l| p[four[l].0]);
@@ -278,12 +308,14 @@ fn correct_in_lanes<S: Isa>(
                 rolled: (rolled.0[l] != 0).then(|| (rolled_n1.lane(l), rolled_n2.lane(l))),
                 slid: (slid.0[l] != 0).then(|| (slid_n1.lane(l), slid_n2.lane(l))),
             };
-            noted.apply(law, *i, c, found);
+            let (i, j) = (*i, c.partner as usize);
+            noted.apply(law, i, c, found, || pair_frame(p[i], p[j], v[i], v[j]));
         }
     }
     for (i, c) in batches.into_remainder() {
-        let found = Found::one_at_a_time(law, m, *i, c);
-        noted.apply(law, *i, c, found);
+        let (i, j) = (*i, c.partner as usize);
+        let found = Found::at(law, p[i], p[j], c);
+        noted.apply(law, i, c, found, || pair_frame(p[i], p[j], v[i], v[j]));
     }
 }
 

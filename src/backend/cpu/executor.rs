@@ -5,7 +5,8 @@
 use super::contacts::contacts;
 use super::forces::{forces, forces_corrections};
 use super::integrate::{
-    integrate_clear_work, integrate_drift, integrate_kick, integrate_pairs, integrate_start,
+    integrate_clear_work, integrate_drift, integrate_kick, integrate_pairs,
+    integrate_pairs_correcting, integrate_start,
 };
 use super::neighbours::{neighbours, neighbours_list};
 use super::scan::{contacts_clear_tally, contacts_pair_tests, contacts_scan};
@@ -91,6 +92,22 @@ impl CpuEngine {
             | Kernel::RowRaster
             | Kernel::RowArea => {}
         }
+        Ok(())
+    }
+
+    /// One pass as the step runs it: `integrate_pairs` in its correcting form
+    /// (`integrate_pairs_correcting`: the pair contacts' inelastic corrections applied where
+    /// their pointers are advanced, not in `contacts`), every other pass as [`Self::run_pass`].
+    /// The state after a whole step is the same to the bit either way; `run_pass` keeps each
+    /// pass the device's twin, for comparing them pass by pass.
+    pub fn run_step_pass(&mut self, pass: Kernel) -> Result<(), EngineError> {
+        if pass != Kernel::IntegratePairs {
+            return self.run_pass(pass);
+        }
+        let s = &mut self.state;
+        let tests = &mut self.workspace.pair_tests;
+        let (law, dt) = (s.law, s.dt);
+        integrate_pairs_correcting(&law, dt, &s.monomers, &mut s.contacts, tests, &mut s.tally);
         Ok(())
     }
 

@@ -5,11 +5,12 @@
 //! parallel with the same bits for any thread count. The twins of the entry points of
 //! shaders/passes/integrate.wgsl, one function each.
 
+use super::corrections_lanes::Noted;
 use super::forces_lanes::ContactLanes;
 use super::integrate_lanes::{chunk_pairs, PairChunk};
 use super::neighbours::NeighbourList;
 use super::prefetch::worthwhile;
-use super::workspace::{split_len, CHUNK};
+use super::workspace::{split_len, sum_in_order, CHUNK};
 use crate::backend::script::{PAIR_TEST_BEYOND, PAIR_TEST_BREAKS};
 use crate::model::pointer::rotate_pointer;
 use crate::model::twisting::twist_increment;
@@ -93,8 +94,56 @@ pub fn integrate_pairs(
                 first: chunk * CHUNK,
                 prefetching,
             };
-            chunk_pairs(lanes, law, dt, monomers, owners, tests);
+            chunk_pairs(lanes, law, dt, monomers, owners, tests, None);
         });
+}
+
+/// The CPU step's `integrate_pairs`: the same, and each pair contact beyond an inelastic
+/// limit that does not break corrected now, its dissipation added to `tally` (where booked),
+/// instead of in the contacts pass. The corrections are the contacts pass's on the same values
+/// (the positions the drift stores, the same pointers), so the state after the step has the
+/// same bits; the tally's sum differs only in the order of one owner's corrections where a
+/// contact of it breaks (the events reorder its slots). DESIGN.md, "The CPU engine: the
+/// corrections where the pointers are".
+pub fn integrate_pairs_correcting(
+    law: &ContactLaw,
+    dt: f64,
+    monomers: &Monomers,
+    table: &mut ContactTable,
+    pair_tests: &mut [u32],
+    tally: &mut Dissipation,
+) {
+    let slots = table.pair_slots;
+    let prefetching = worthwhile(table);
+    let lanes = ContactLanes::chosen();
+    let books = tally.books_pair_corrections();
+    let sums: Vec<Dissipation> = (
+        table.pair.par_chunks_mut(CHUNK * slots),
+        table.pair_count.par_chunks(CHUNK),
+        pair_tests.par_chunks_mut(CHUNK),
+    )
+        .into_par_iter()
+        .with_min_len(split_len(monomers.len(), CHUNK))
+        .enumerate()
+        .map(|(chunk, (rows, counts, tests))| {
+            let contacts = counts.iter().map(|&c| c as usize).sum();
+            let mut noted = Noted::with_room_for(contacts, books);
+            let owners = PairChunk {
+                rows,
+                slots,
+                counts,
+                first: chunk * CHUNK,
+                prefetching,
+            };
+            chunk_pairs(lanes, law, dt, monomers, owners, tests, Some(&mut noted));
+            let mut dissipated = Dissipation::default();
+            if books {
+                noted.book(lanes, law, dt, monomers, &mut dissipated);
+            }
+            dissipated
+        })
+        .collect();
+    tally.add(&sum_in_order(&sums));
 }
 
 /// One pair contact of owner `i` through `integrate_pairs`: the twist integral and both

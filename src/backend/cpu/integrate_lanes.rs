@@ -5,21 +5,30 @@
 //! As in forces_lanes.rs, each lane does its contact's scalar operations in the scalar order
 //! (lanes.rs), so pointers, twist and tests are the scalar code's bits; a pointer whose
 //! monomer does not spin is kept as it is, as the scalar code returns it.
+//!
+//! The step's form (`integrate_pairs_correcting`, integrate.rs) also applies the inelastic
+//! corrections of each contact beyond a limit that does not break, here, where its pointers,
+//! positions and velocities are in the lanes already; the contacts pass would apply the same
+//! corrections to the same values after the drift (corrections_lanes.rs).
 
+use super::corrections_lanes::{Found, Noted};
 use super::forces_lanes::{ContactLanes, OwnerChunk};
 use super::integrate::integrate_pair_contact;
 #[cfg(target_arch = "x86_64")]
 use super::lanes::Avx2;
-use super::lanes::{Isa, Portable, F4, V4};
+use super::lanes::{Isa, Portable, F4, M4, V4};
+use super::limits_lanes::{rolling_correction_lanes, sliding_correction_lanes};
 use crate::backend::script::{PAIR_TEST_BEYOND, PAIR_TEST_BREAKS};
 use crate::model::ContactLaw;
+use crate::state::interaction::{pair_frame, PairFrame};
 use crate::state::{Monomers, PairContact};
 
 /// `integrate_pairs`' chunk of owners: it advances the rows in place.
 pub type PairChunk<'a> = OwnerChunk<'a, &'a mut [PairContact]>;
 
 /// The chunk's pair contacts advanced and tested, `lanes` wide; `tests[k]` gets owner k's
-/// tests.
+/// tests. With `noted`, each contact beyond a limit that does not break is corrected too,
+/// its states noted for the booking, and no test says beyond.
 pub fn chunk_pairs(
     lanes: ContactLanes,
     law: &ContactLaw,
@@ -27,36 +36,86 @@ pub fn chunk_pairs(
     m: &Monomers,
     chunk: PairChunk,
     tests: &mut [u32],
+    noted: Option<&mut Noted>,
 ) {
     match lanes {
-        ContactLanes::Scalar => chunk_scalar(law, dt, m, chunk, tests),
-        ContactLanes::Portable => chunk_in_lanes::<Portable>(law, dt, m, chunk, tests),
+        ContactLanes::Scalar => chunk_scalar(law, dt, m, chunk, tests, noted),
+        ContactLanes::Portable => chunk_in_lanes::<Portable>(law, dt, m, chunk, tests, noted),
         #[cfg(target_arch = "x86_64")]
         ContactLanes::Avx2 => {
             assert!(std::arch::is_x86_feature_detected!("avx2"));
             // SAFETY: the processor has AVX2 (checked above).
-            unsafe { chunk_avx2(law, dt, m, chunk, tests) }
+            unsafe { chunk_avx2(law, dt, m, chunk, tests, noted) }
         }
         #[cfg(not(target_arch = "x86_64"))]
-        ContactLanes::Avx2 => chunk_in_lanes::<Portable>(law, dt, m, chunk, tests),
+        ContactLanes::Avx2 => chunk_in_lanes::<Portable>(law, dt, m, chunk, tests, noted),
     }
 }
 
-fn chunk_scalar(law: &ContactLaw, dt: f64, m: &Monomers, chunk: PairChunk, tests: &mut [u32]) {
+fn chunk_scalar(
+    law: &ContactLaw,
+    dt: f64,
+    m: &Monomers,
+    chunk: PairChunk,
+    tests: &mut [u32],
+    mut noted: Option<&mut Noted>,
+) {
     for (k, test) in tests.iter_mut().enumerate() {
         chunk.prefetch_ahead(m, k, true);
         let mut bits = 0;
         for s in chunk.contacts_of(k) {
-            bits |= integrate_pair_contact(law, dt, m, chunk.first + k, &mut chunk.rows[s]);
+            let (i, c) = (chunk.first + k, &mut chunk.rows[s]);
+            let tested = integrate_pair_contact(law, dt, m, i, c);
+            bits |= match noted.as_deref_mut() {
+                Some(noted) => correct_one(law, dt, m, i, c, tested, noted),
+                None => tested,
+            };
         }
         *test = bits;
     }
 }
 
+/// Whether a contact's tests ask for its corrections now: beyond a limit, not breaking (a
+/// breaking contact leaves the table in the contacts pass, uncorrected).
+fn corrected_now(tests: u32) -> bool {
+    tests & PAIR_TEST_BEYOND != 0 && tests & PAIR_TEST_BREAKS == 0
+}
+
+/// One contact's corrections, where its `tests` ask for them, at the positions the drift is
+/// about to store; returns its tests as the contacts scan should see them: none beyond a limit
+/// (a breaking contact leaves the table uncorrected, and an owner listed for corrections would
+/// have the others corrected twice).
+fn correct_one(
+    law: &ContactLaw,
+    dt: f64,
+    m: &Monomers,
+    i: usize,
+    c: &mut PairContact,
+    tests: u32,
+    noted: &mut Noted,
+) -> u32 {
+    if !corrected_now(tests) {
+        return tests & !PAIR_TEST_BEYOND;
+    }
+    let (p, v) = (&m.position, &m.velocity);
+    let j = c.partner as usize;
+    let (x1, x2) = (p[i] + v[i] * dt, p[j] + v[j] * dt);
+    let found = Found::at(law, x1, x2, c);
+    noted.apply(law, i, c, found, || pair_frame(x1, x2, v[i], v[j]));
+    tests & !PAIR_TEST_BEYOND
+}
+
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn chunk_avx2(law: &ContactLaw, dt: f64, m: &Monomers, chunk: PairChunk, tests: &mut [u32]) {
-    chunk_in_lanes::<Avx2>(law, dt, m, chunk, tests)
+unsafe fn chunk_avx2(
+    law: &ContactLaw,
+    dt: f64,
+    m: &Monomers,
+    chunk: PairChunk,
+    tests: &mut [u32],
+    noted: Option<&mut Noted>,
+) {
+    chunk_in_lanes::<Avx2>(law, dt, m, chunk, tests, noted)
 }
 
 /// The chunk's contacts in batches of four across owners; a last batch of fewer goes one at a
@@ -68,6 +127,7 @@ fn chunk_in_lanes<S: Isa>(
     m: &Monomers,
     chunk: PairChunk,
     tests: &mut [u32],
+    mut noted: Option<&mut Noted>,
 ) {
     let mut owner = [0usize; 4];
     let mut slot = [0usize; 4];
@@ -80,7 +140,13 @@ fn chunk_in_lanes<S: Isa>(
             slot[filled] = s;
             filled += 1;
             if filled == 4 {
-                let bits = four_pairs::<S>(law, dt, m, chunk.rows, chunk.first, &owner, &slot);
+                let at = Four {
+                    rows: &mut *chunk.rows,
+                    first: chunk.first,
+                    owner: &owner,
+                    slot: &slot,
+                };
+                let bits = four_pairs::<S>(law, dt, m, at, noted.as_deref_mut());
                 for l in 0..4 {
                     tests[owner[l]] |= bits[l];
                 }
@@ -89,22 +155,39 @@ fn chunk_in_lanes<S: Isa>(
         }
     }
     for l in 0..filled {
-        let c = &mut chunk.rows[slot[l]];
-        tests[owner[l]] |= integrate_pair_contact(law, dt, m, chunk.first + owner[l], c);
+        let (i, c) = (chunk.first + owner[l], &mut chunk.rows[slot[l]]);
+        let tested = integrate_pair_contact(law, dt, m, i, c);
+        tests[owner[l]] |= match noted.as_deref_mut() {
+            Some(noted) => correct_one(law, dt, m, i, c, tested, noted),
+            None => tested,
+        };
     }
 }
 
-/// Four contacts (owners `first + owner[l]`, slots `slot[l]`) advanced in place; their tests.
+/// Four contacts of a chunk: owners `first + owner[l]`, in slots `slot[l]` of `rows`.
+struct Four<'a> {
+    rows: &'a mut [PairContact],
+    first: usize,
+    owner: &'a [usize; 4],
+    slot: &'a [usize; 4],
+}
+
+/// Four contacts advanced in place, and corrected where `noted` and their tests ask for it;
+/// their tests.
 #[inline(always)]
 fn four_pairs<S: Isa>(
     law: &ContactLaw,
     dt: f64,
     m: &Monomers,
-    rows: &mut [PairContact],
-    first: usize,
-    owner: &[usize; 4],
-    slot: &[usize; 4],
+    four: Four,
+    noted: Option<&mut Noted>,
 ) -> [u32; 4] {
+    let Four {
+        rows,
+        first,
+        owner,
+        slot,
+    } = four;
     let (pos, vel, omega) = (&m.position, &m.velocity, &m.angular_velocity);
     let i = |l: usize| first + owner[l];
     let j = |l: usize| rows[slot[l]].partner as usize;
@@ -128,18 +211,75 @@ fn four_pairs<S: Isa>(
     let twist = twist + (w1 - w2).dot(nc_mid) * dt;
     let n1 = rotate_pointer_lanes(n1, w1.times(dt));
     let n2 = rotate_pointer_lanes(n2, w2.times(dt));
-    let bits = test_pair_contact_lanes(law, x1 + v1.times(dt), x2 + v2.times(dt), n1, n2, twist);
+    let (x1, x2) = (x1 + v1.times(dt), x2 + v2.times(dt));
+    let (bits, nc) = test_pair_contact_lanes(law, x1, x2, n1, n2, twist);
     for (l, &s) in slot.iter().enumerate() {
         let c = &mut rows[s];
         c.twist = twist.0[l];
         c.n1 = n1.lane(l);
         c.n2 = n2.lane(l);
     }
-    bits
+    let Some(noted) = noted else {
+        return bits;
+    };
+    // The scan lists no owner for corrections after these (see `correct_one`).
+    let scanned = bits.map(|b| b & !PAIR_TEST_BEYOND);
+    if !bits.iter().any(|&b| corrected_now(b)) {
+        return scanned;
+    }
+    // Corrections::found of the twin (corrections_lanes.rs) on the same values: the rolling
+    // correction, then the sliding one on the pointers it left.
+    let k = &law.pair;
+    let (rolled, rolled_n1, rolled_n2) =
+        rolling_correction_lanes(n1, n2, k.reduced_radius, k.xi_crit);
+    let a = V4::select(rolled, rolled_n1, n1);
+    let b = V4::select(rolled, rolled_n2, n2);
+    let (slid, slid_n1, slid_n2) = sliding_correction_lanes(a, b, nc, law.radius, k.zeta_crit);
+    let frames = FramesOf::new(x1, x2, v1, v2);
+    let set = |mask: M4<S>, l: usize| mask.0[l] != 0;
+    for l in (0..4).filter(|&l| corrected_now(bits[l])) {
+        let found = Found {
+            rolled: set(rolled, l).then(|| (rolled_n1.lane(l), rolled_n2.lane(l))),
+            slid: set(slid, l).then(|| (slid_n1.lane(l), slid_n2.lane(l))),
+        };
+        noted.apply(law, first + owner[l], &mut rows[slot[l]], found, || {
+            frames.lane(l)
+        });
+    }
+    scanned
+}
+
+/// `pair_frame` of four contacts: the lanes' operations in its order, the same bits.
+struct FramesOf<S: Isa> {
+    distance: F4<S>,
+    nc: V4<S>,
+    v_rel: V4<S>,
+}
+
+impl<S: Isa> FramesOf<S> {
+    #[inline(always)]
+    fn new(x1: V4<S>, x2: V4<S>, v1: V4<S>, v2: V4<S>) -> Self {
+        let d = x1 - x2;
+        let distance = d.length();
+        FramesOf {
+            distance,
+            nc: d.divide(distance),
+            v_rel: v1 - v2,
+        }
+    }
+
+    #[inline(always)]
+    fn lane(&self, l: usize) -> PairFrame {
+        PairFrame {
+            distance: self.distance.0[l],
+            nc: self.nc.lane(l),
+            v_rel: self.v_rel.lane(l),
+        }
+    }
 }
 
 /// Lane twin of `test_pair_contact` and `beyond_limits`: the lengths in lanes, the
-/// comparisons lane by lane as the scalar code makes them.
+/// comparisons lane by lane as the scalar code makes them; with the contact normals.
 #[inline(always)]
 fn test_pair_contact_lanes<S: Isa>(
     law: &ContactLaw,
@@ -148,7 +288,7 @@ fn test_pair_contact_lanes<S: Isa>(
     n1: V4<S>,
     n2: V4<S>,
     twist: F4<S>,
-) -> [u32; 4] {
+) -> ([u32; 4], V4<S>) {
     let k = &law.pair;
     let r = law.radius;
     let delta = 2.0 * r - (x1 - x2).length();
@@ -161,13 +301,14 @@ fn test_pair_contact_lanes<S: Isa>(
         use std::cmp::Ordering::{Equal, Less};
         !matches!(x.partial_cmp(&limit), Some(Less | Equal))
     };
-    std::array::from_fn(|l| {
+    let bits = std::array::from_fn(|l| {
         let breaks = delta.0[l] < -k.delta_c;
         let beyond = beyond(rolling.0[l], k.xi_crit)
             || beyond(sliding.0[l], k.zeta_crit)
             || twist.0[l].abs() > k.phi_crit;
         (if breaks { PAIR_TEST_BREAKS } else { 0 }) | (if beyond { PAIR_TEST_BEYOND } else { 0 })
-    })
+    });
+    (bits, nc)
 }
 
 /// Lane twin of `rotate_pointer`: the same polynomials in θ², the same grouping.

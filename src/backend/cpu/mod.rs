@@ -140,7 +140,7 @@ impl CpuEngine {
         let step = self.step;
         for pass in STEP {
             let clock = std::time::Instant::now();
-            self.run_pass(pass).map_err(|e| e.at_step(step + 1))?;
+            self.run_step_pass(pass).map_err(|e| e.at_step(step + 1))?;
             self.pass_seconds[timing_group(pass)] += clock.elapsed().as_secs_f64();
         }
         let s = &mut self.state;
