@@ -1,6 +1,7 @@
-//! The CPU step applies the pair contacts' inelastic corrections in `integrate_pairs`
-//! (`integrate_pairs_correcting`), not in the contacts pass as the passes run one by one (the
-//! device's order). Both orders give the same state to the bit over a compression with contact
+//! A CPU run applies the pair contacts' inelastic corrections in `integrate_pairs`
+//! (`integrate_pairs_correcting`), not in the contacts pass, and joins each step's kick to the
+//! gather of the step before (`wall_forces` with a `NextKick`), unlike the passes run one by one
+//! (the device's order). Both give the same state to the bit over a compression with contact
 //! events, corrections and wall contacts; the tally's correction channels add the same terms,
 //! in another order only within an owner whose contact broke that step.
 

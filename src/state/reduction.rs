@@ -8,7 +8,7 @@
 //! can hold the block a device reads back to the bits. The block sizes are numbers of this
 //! order, not of one backend: the GPU's WGSL declares the same values (a test compares them).
 
-use super::ContactTable;
+use super::{ContactTable, WallContact};
 use glam::DVec3;
 
 /// Consecutive monomers whose wall-contact forces one partial sum holds.
@@ -41,11 +41,37 @@ pub fn reduce_walls_block(
     block: usize,
     sums: &mut [DVec3],
 ) {
-    let n = table.wall_count.len();
-    for i in block * REDUCE_BLOCK..((block + 1) * REDUCE_BLOCK).min(n) {
-        for slot in 0..table.wall_count[i] as usize {
-            let idx = i * table.wall_slots + slot;
-            sums[table.wall[idx].wall as usize] += slot_force(idx);
+    let rows = WallRows {
+        rows: &table.wall,
+        counts: &table.wall_count,
+        slots: table.wall_slots,
+        first: 0,
+    };
+    reduce_walls_block_of(rows, slot_force, block, sums);
+}
+
+/// The wall-contact rows of consecutive monomers from `first`: `slots` rows each, `counts`.
+#[derive(Clone, Copy)]
+pub struct WallRows<'a> {
+    pub rows: &'a [WallContact],
+    pub counts: &'a [u32],
+    pub slots: usize,
+    pub first: usize,
+}
+
+/// [`reduce_walls_block`] on the rows of the monomers `rows` holds (which hold the block;
+/// `slot_force` still takes the slot's index in the whole table).
+pub fn reduce_walls_block_of(
+    rows: WallRows,
+    slot_force: impl Fn(usize) -> DVec3,
+    block: usize,
+    sums: &mut [DVec3],
+) {
+    let end = rows.first + rows.counts.len();
+    for i in block * REDUCE_BLOCK..((block + 1) * REDUCE_BLOCK).min(end) {
+        for slot in 0..rows.counts[i - rows.first] as usize {
+            let idx = i * rows.slots + slot;
+            sums[rows.rows[idx - rows.first * rows.slots].wall as usize] += slot_force(idx);
         }
     }
 }

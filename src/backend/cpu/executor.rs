@@ -6,7 +6,7 @@ use super::contacts::contacts;
 use super::forces::{forces, forces_corrections};
 use super::integrate::{
     integrate_clear_work, integrate_drift, integrate_kick, integrate_pairs,
-    integrate_pairs_correcting, integrate_start,
+    integrate_pairs_correcting, integrate_start, NextKick,
 };
 use super::neighbours::{neighbours, neighbours_list};
 use super::scan::{contacts_clear_tally, contacts_pair_tests, contacts_scan};
@@ -74,7 +74,9 @@ impl CpuEngine {
                 w.work = work;
                 s.tally.add(&d);
             }
-            Kernel::WallForces => wall_forces(dt, &s.walls, &mut s.monomers, &s.contacts, w),
+            Kernel::WallForces => {
+                wall_forces(dt, &s.walls, &mut s.monomers, &mut s.contacts, w, None)
+            }
             Kernel::ReduceWallsFinal => reduce_walls_final(
                 dt,
                 &s.walls,
@@ -108,6 +110,27 @@ impl CpuEngine {
         let tests = &mut self.workspace.pair_tests;
         let (law, dt) = (s.law, s.dt);
         integrate_pairs_correcting(&law, dt, &s.monomers, &mut s.contacts, tests, &mut s.tally);
+        Ok(())
+    }
+
+    /// `wall_forces` with the next step's kick joined to it (`CpuEngine::run` between two
+    /// steps): the same bits as `wall_forces`, `reduce_walls_final`, then `integrate_kick`.
+    pub(super) fn wall_forces_then_kick(&mut self) -> Result<(), EngineError> {
+        let kick = NextKick {
+            dt: self.dt,
+            inverse_mass: 1.0 / self.law.mass,
+            inverse_inertia: 1.0 / self.law.moment_of_inertia,
+        };
+        let s = &mut self.state;
+        let w = &mut self.workspace;
+        wall_forces(
+            s.dt,
+            &s.walls,
+            &mut s.monomers,
+            &mut s.contacts,
+            w,
+            Some(kick),
+        );
         Ok(())
     }
 

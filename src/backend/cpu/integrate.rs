@@ -16,7 +16,7 @@ use crate::model::pointer::rotate_pointer;
 use crate::model::twisting::twist_increment;
 use crate::model::ContactLaw;
 use crate::state::interaction::beyond_limits;
-use crate::state::{ContactTable, Dissipation, Monomers, PairContact, Wall};
+use crate::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -39,6 +39,11 @@ pub fn integrate_kick(
     let m = monomers;
     let (force, torque) = (&m.force, &m.torque);
     let (mass_scale, inertia_scale) = (&m.inverse_mass_scale, &m.inverse_inertia_scale);
+    let kick = NextKick {
+        dt,
+        inverse_mass,
+        inverse_inertia,
+    };
     (
         m.velocity.par_chunks_mut(CHUNK),
         m.angular_velocity.par_chunks_mut(CHUNK),
@@ -52,15 +57,48 @@ pub fn integrate_kick(
             let first = chunk * CHUNK;
             for k in 0..velocity.len() {
                 let i = first + k;
-                velocity[k] += force[i] * (dt * inverse_mass * mass_scale[i]);
-                spin[k] += torque[i] * (dt * inverse_inertia * inertia_scale[i]);
-                let omega = spin[k];
-                for c in &mut wall_rows[k * ws..k * ws + counts[k] as usize] {
-                    c.twist += twist_increment(omega, walls[c.wall as usize].normal, dt);
-                    c.n1 = rotate_pointer(c.n1, omega * dt);
-                }
+                let row = &mut wall_rows[k * ws..k * ws + counts[k] as usize];
+                let scales = (mass_scale[i], inertia_scale[i]);
+                kick.kick(
+                    (force[i], torque[i]),
+                    scales,
+                    (&mut velocity[k], &mut spin[k]),
+                    row,
+                    walls,
+                );
             }
         });
+}
+
+/// What the kick of one monomer needs besides the monomer: `integrate_kick`'s constants.
+#[derive(Clone, Copy, Debug)]
+pub struct NextKick {
+    pub dt: f64,
+    pub inverse_mass: f64,
+    pub inverse_inertia: f64,
+}
+
+impl NextKick {
+    /// One monomer's kick with its force and torque `(f, t)` and inverse mass and inertia
+    /// scales: velocity and spin, then its wall contacts' twist and pointer with the new spin.
+    #[inline(always)]
+    pub fn kick(
+        &self,
+        (f, t): (DVec3, DVec3),
+        (mass_scale, inertia_scale): (f64, f64),
+        (velocity, spin): (&mut DVec3, &mut DVec3),
+        wall_rows: &mut [WallContact],
+        walls: &[Wall],
+    ) {
+        let dt = self.dt;
+        *velocity += f * (dt * self.inverse_mass * mass_scale);
+        *spin += t * (dt * self.inverse_inertia * inertia_scale);
+        let omega = *spin;
+        for c in wall_rows {
+            c.twist += twist_increment(omega, walls[c.wall as usize].normal, dt);
+            c.n1 = rotate_pointer(c.n1, omega * dt);
+        }
+    }
 }
 
 /// Both pointers and the twist integral of every pair contact, with the kicked velocities

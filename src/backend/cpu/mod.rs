@@ -137,10 +137,26 @@ impl CpuEngine {
 
     /// Advances one time step: the passes of [`STEP`].
     pub fn step(&mut self) -> Result<(), EngineError> {
+        self.step_joined(false, false)
+    }
+
+    /// One step of a run of several: `kicked` where the step before has done this one's kick
+    /// (joined to its gather), `kick_next` to join the next step's kick to this one's gather
+    /// (`wall_forces` with a [`integrate::NextKick`]). A run ends on a step whose velocities are
+    /// the leap-frog's v(n+½), as after [`Self::step`].
+    fn step_joined(&mut self, kicked: bool, kick_next: bool) -> Result<(), EngineError> {
         let step = self.step;
         for pass in STEP {
+            if kicked && pass == Kernel::IntegrateKick {
+                continue;
+            }
             let clock = std::time::Instant::now();
-            self.run_step_pass(pass).map_err(|e| e.at_step(step + 1))?;
+            let done = if kick_next && pass == Kernel::WallForces {
+                self.wall_forces_then_kick()
+            } else {
+                self.run_step_pass(pass)
+            };
+            done.map_err(|e| e.at_step(step + 1))?;
             self.pass_seconds[timing_group(pass)] += clock.elapsed().as_secs_f64();
         }
         let s = &mut self.state;
@@ -157,12 +173,22 @@ impl CpuEngine {
     /// pool, not handed over from another thread, which costs a wake-up per pass and, at small
     /// N, more than the pass itself.
     pub fn run(&mut self, steps: u64) -> Result<(), EngineError> {
-        rayon::scope(|_| {
-            for _ in 0..steps {
-                self.step()?;
-            }
-            Ok(())
-        })
+        rayon::scope(|_| self.run_steps(steps, |_| {}))
+    }
+
+    /// `steps` steps, each but the last with the next one's kick joined to its gather;
+    /// `after_each` sees the engine after every step (its velocities a half step ahead of
+    /// the positions' time but for the last).
+    fn run_steps(
+        &mut self,
+        steps: u64,
+        mut after_each: impl FnMut(&Self),
+    ) -> Result<(), EngineError> {
+        for k in 0..steps {
+            self.step_joined(k > 0, k + 1 < steps)?;
+            after_each(self);
+        }
+        Ok(())
     }
 
     /// Run-time guard: finite positions and velocities, and no overlap above half a radius.
@@ -256,13 +282,11 @@ impl Engine for CpuEngine {
         let mut sum = vec![DVec3::ZERO; self.walls.len()];
         // On a worker thread, as in `run`.
         rayon::scope(|_| {
-            for _ in 0..steps {
-                self.step()?;
-                for (s, f) in sum.iter_mut().zip(&self.wall_force) {
+            self.run_steps(steps, |e| {
+                for (s, f) in sum.iter_mut().zip(&e.wall_force) {
                     *s += *f;
                 }
-            }
-            Ok::<(), EngineError>(())
+            })
         })?;
         Ok(sum.into_iter().map(|s| s / steps.max(1) as f64).collect())
     }

@@ -10,13 +10,16 @@
 //! [`REDUCE_BLOCK`] monomers; `reduce_walls_final` adds the blocks in order. So nothing depends
 //! on the thread count and the forces equal the device's bits.
 
+use super::integrate::NextKick;
 use super::workspace::{split_len, Workspace, CHUNK};
 use crate::backend::script::{OWNER_INDEX, OWNER_WALLS};
 use crate::model::{twisting, wall as wall_law, ContactLaw};
 use crate::state::interaction::{
     wall_geometry, wall_interaction_at, wall_tangential_step_energy, WallMotion,
 };
-use crate::state::reduction::{reduce_walls_block, reduce_walls_final_from, REDUCE_BLOCK};
+use crate::state::reduction::{
+    reduce_walls_block_of, reduce_walls_final_from, WallRows, REDUCE_BLOCK,
+};
 use crate::state::{ContactTable, Dissipation, Monomers, Wall, WallContact};
 use glam::DVec3;
 use rayon::prelude::*;
@@ -143,12 +146,18 @@ pub fn wall_contacts(
 /// ½ (F_d(n) + F_d(n+1))·v dt per monomer, summed per chunk and over chunks in order (which
 /// matches the leap-frog's kinetic energy change up to a bounded, telescoping term), and sums
 /// the wall forces per block for `reduce_walls_final`.
+///
+/// With `next_kick` (the CPU step between two steps of one run), each monomer then gets the
+/// next step's `integrate_kick` at once, its forces still in registers: the same operations on
+/// the same values, one sweep over the monomers fewer (DESIGN.md, "The CPU engine: the kick
+/// joined to the gather"). The table is mutable for that kick's wall-contact pointers.
 pub fn wall_forces(
     dt: f64,
     walls: &[Wall],
     monomers: &mut Monomers,
-    table: &ContactTable,
+    table: &mut ContactTable,
     workspace: &mut Workspace,
+    next_kick: Option<NextKick>,
 ) {
     let n = monomers.len();
     // Per block one sum per wall (at least one, so that the chunks below exist without walls).
@@ -160,44 +169,68 @@ pub fn wall_forces(
         p.clear();
         p.resize(blocks * stride, DVec3::ZERO);
     }
+    let mut pair_tests = std::mem::take(&mut workspace.pair_tests);
+    // One per monomer (integrate_kick's length), cleared below only where a kick joins.
+    pair_tests.resize(n, 0);
+    let ws = table.wall_slots;
     let ws_ref = &*workspace;
-    let Monomers {
-        velocity,
-        force,
-        damping_force,
-        torque,
-        ..
-    } = monomers;
+    let (wall_rows, wall_counts) = (&mut table.wall, &table.wall_count);
+    let m = Moving::of(monomers);
     let chunk_work: Vec<f64> = (
-        force.par_chunks_mut(CHUNK),
-        damping_force.par_chunks_mut(CHUNK),
-        torque.par_chunks_mut(CHUNK),
+        m.velocity.par_chunks_mut(CHUNK),
+        m.spin.par_chunks_mut(CHUNK),
+        m.force.par_chunks_mut(CHUNK),
+        m.damping.par_chunks_mut(CHUNK),
+        m.torque.par_chunks_mut(CHUNK),
         partials.par_chunks_mut(CHUNK / REDUCE_BLOCK * stride),
         damping_partials.par_chunks_mut(CHUNK / REDUCE_BLOCK * stride),
+        wall_rows.par_chunks_mut(CHUNK * ws),
+        wall_counts.par_chunks(CHUNK),
+        pair_tests.par_chunks_mut(CHUNK),
     )
         .into_par_iter()
         .with_min_len(split_len(n, CHUNK))
         .enumerate()
-        .map(|(chunk, (force, damping, torque, sums, damping_sums))| {
-            let first = chunk * CHUNK;
-            let mut work = 0.0;
-            for k in 0..force.len() {
-                let i = first + k;
-                let (f, fd, t) = gather(i, ws_ref, table);
-                work += 0.5 * (damping[k] + fd).dot(velocity[i] * dt);
-                force[k] = f;
-                damping[k] = fd;
-                torque[k] = t;
-            }
-            let results = &ws_ref.wall_result;
-            let blocks = sums.chunks_mut(stride).zip(damping_sums.chunks_mut(stride));
-            for (b, (s, d)) in blocks.enumerate() {
-                let block = first / REDUCE_BLOCK + b;
-                reduce_walls_block(table, |idx| results[idx].force, block, s);
-                reduce_walls_block(table, |idx| results[idx].damping, block, d);
-            }
-            work
-        })
+        .map(
+            |(
+                chunk,
+                (velocity, spin, force, damping, torque, sums, damping_sums, rows, counts, tests),
+            )| {
+                let first = chunk * CHUNK;
+                let mut work = 0.0;
+                for k in 0..force.len() {
+                    let i = first + k;
+                    let (f, fd, t) = gather(i, ws_ref, ws, counts[k]);
+                    work += 0.5 * (damping[k] + fd).dot(velocity[k] * dt);
+                    force[k] = f;
+                    damping[k] = fd;
+                    torque[k] = t;
+                    if let Some(kick) = &next_kick {
+                        let scales = (m.mass_scale[i], m.inertia_scale[i]);
+                        let row = &mut rows[k * ws..k * ws + counts[k] as usize];
+                        kick.kick((f, t), scales, (&mut velocity[k], &mut spin[k]), row, walls);
+                    }
+                }
+                if next_kick.is_some() {
+                    // integrate_kick's: this step's tests are read, the next one's start from none.
+                    tests.fill(0);
+                }
+                let results = &ws_ref.wall_result;
+                let rows = WallRows {
+                    rows,
+                    counts,
+                    slots: ws,
+                    first,
+                };
+                let blocks = sums.chunks_mut(stride).zip(damping_sums.chunks_mut(stride));
+                for (b, (s, d)) in blocks.enumerate() {
+                    let block = first / REDUCE_BLOCK + b;
+                    reduce_walls_block_of(rows, |idx| results[idx].force, block, s);
+                    reduce_walls_block_of(rows, |idx| results[idx].damping, block, d);
+                }
+                work
+            },
+        )
         .collect();
     let mut damping_work = 0.0;
     for w in chunk_work {
@@ -206,10 +239,43 @@ pub fn wall_forces(
     workspace.damping_work = damping_work;
     workspace.wall_partials = partials;
     workspace.wall_damping_partials = damping_partials;
+    workspace.pair_tests = pair_tests;
+}
+
+/// The monomer arrays `wall_forces` writes (and, kicking, the velocities), and the scales it
+/// reads.
+struct Moving<'a> {
+    velocity: &'a mut [DVec3],
+    spin: &'a mut [DVec3],
+    force: &'a mut [DVec3],
+    damping: &'a mut [DVec3],
+    torque: &'a mut [DVec3],
+    mass_scale: &'a [f64],
+    inertia_scale: &'a [f64],
+}
+
+impl<'a> Moving<'a> {
+    fn of(m: &'a mut Monomers) -> Self {
+        Moving {
+            velocity: &mut m.velocity,
+            spin: &mut m.angular_velocity,
+            force: &mut m.force,
+            damping: &mut m.damping_force,
+            torque: &mut m.torque,
+            mass_scale: &m.inverse_mass_scale,
+            inertia_scale: &m.inverse_inertia_scale,
+        }
+    }
 }
 
 /// Monomer `i`'s force, damping force and torque from the per-contact results.
-fn gather(i: usize, workspace: &Workspace, table: &ContactTable) -> (DVec3, DVec3, DVec3) {
+/// (`wall_slots` per monomer, `wall_count` of them `i`'s).
+fn gather(
+    i: usize,
+    workspace: &Workspace,
+    wall_slots: usize,
+    wall_count: u32,
+) -> (DVec3, DVec3, DVec3) {
     let incoming = &workspace.incoming;
     let owner_start = incoming.owner_start();
     let results = &workspace.pair_result;
@@ -225,8 +291,8 @@ fn gather(i: usize, workspace: &Workspace, table: &ContactTable) -> (DVec3, DVec
         fd += r.damping;
         t += r.torque_owner;
     }
-    let ws = table.wall_slots;
-    for r in &workspace.wall_result[i * ws..i * ws + table.wall_count[i] as usize] {
+    let ws = wall_slots;
+    for r in &workspace.wall_result[i * ws..i * ws + wall_count as usize] {
         f += r.force;
         fd += r.damping;
         t += r.torque;
