@@ -12,7 +12,10 @@ pub const MAX_PAIR_SLOTS: usize = 64;
 pub const DEFAULT_WALL_SLOTS: usize = 3;
 
 /// History of one monomer–monomer contact, stored with its lower-index monomer (the owner).
+/// Aligned to 64 bytes (its size): each slot one cache line, not two halves of neighbours'
+/// (DESIGN.md, "The CPU engine: one cache line per contact slot").
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(align(64))]
 pub struct PairContact {
     pub partner: u32,
     /// Pointer of the owner.
@@ -25,6 +28,7 @@ pub struct PairContact {
 
 /// History of one monomer–wall contact.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(align(64))]
 pub struct WallContact {
     pub wall: u32,
     /// Pointer of the monomer.

@@ -28,11 +28,35 @@ use crate::state::{Dissipation, Monomers, PairContact};
 use glam::DVec3;
 
 /// One state whose step energy the booking needs: contact `contact` of the chunk's corrected
-/// contacts as it stood then.
+/// contacts as it stood then (its pointers and twist: a table slot, 64-byte aligned, would
+/// double the note).
 #[derive(Clone, Copy)]
 struct EnergyOf {
     contact: usize,
-    state: PairContact,
+    n1: DVec3,
+    n2: DVec3,
+    twist: f64,
+}
+
+impl EnergyOf {
+    fn of(contact: usize, c: &PairContact) -> Self {
+        EnergyOf {
+            contact,
+            n1: c.n1,
+            n2: c.n2,
+            twist: c.twist,
+        }
+    }
+
+    /// The state as a contact (its partner is not read by the energy).
+    fn state(&self) -> PairContact {
+        PairContact {
+            partner: 0,
+            n1: self.n1,
+            n2: self.n2,
+            twist: self.twist,
+        }
+    }
 }
 
 /// A corrected contact: owner and partner.
@@ -220,12 +244,9 @@ impl Noted {
         // The state before the first correction, then the state after each.
         let corrected = |c: &PairContact, states: &mut Vec<EnergyOf>| {
             if states.len() == first {
-                states.push(EnergyOf {
-                    contact,
-                    state: before,
-                });
+                states.push(EnergyOf::of(contact, &before));
             }
-            states.push(EnergyOf { contact, state: *c });
+            states.push(EnergyOf::of(contact, c));
         };
         if let Some((n1, n2)) = found.rolled {
             c.n1 = n1;
@@ -352,7 +373,7 @@ fn step_energies(
     for (k, s) in states.iter().enumerate().skip(4 * batches) {
         let Corrected { i, j } = contacts[s.contact];
         let frame = &frames[s.contact];
-        energies[k] = pair_tangential_step_energy(law, frame, w[i], w[j], dt, &s.state);
+        energies[k] = pair_tangential_step_energy(law, frame, w[i], w[j], dt, &s.state());
     }
     energies
 }
@@ -391,10 +412,10 @@ fn energies_in_lanes<S: Isa>(at: &Energies, states: &[EnergyOf], energies: &mut 
                 V4::<S>::gather(|l| w[contact(l).j]),
             ],
             [
-                V4::<S>::gather(|l| four[l].state.n1),
-                V4::<S>::gather(|l| four[l].state.n2),
+                V4::<S>::gather(|l| four[l].n1),
+                V4::<S>::gather(|l| four[l].n2),
             ],
-            F4::<S>::new(std::array::from_fn(|l| four[l].state.twist)),
+            F4::<S>::new(std::array::from_fn(|l| four[l].twist)),
         );
         out.copy_from_slice(&e.0);
     }
