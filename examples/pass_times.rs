@@ -4,7 +4,8 @@
 //! directory, `-- 10000 0.45 bench`, it starts from the sample `dustdem bench --samples 0.45
 //! --prepare-speed 0.25 --out bench` compressed (reusing its stored state, else preparing it);
 //! a third argument sets the steps timed (default 60), a fourth, `untallied`, stops booking
-//! the corrections' dissipation (`[output] tally_corrections = false`).
+//! the corrections' dissipation (`[output] tally_corrections = false`). The environment
+//! variable `PASS_TIMES_THREADS` sets the threads (default 1).
 use dustdem::backend::script::STEP;
 use dustdem::bench::options::{Options, SampleState};
 use std::path::PathBuf;
@@ -14,7 +15,12 @@ fn main() {
     let n: usize = args.first().map(|s| s.parse().unwrap()).unwrap_or(100000);
     let config = dustdem::bench::benchmark_config(n).unwrap();
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
+        .num_threads(
+            std::env::var("PASS_TIMES_THREADS")
+                .ok()
+                .and_then(|t| t.parse().ok())
+                .unwrap_or(1),
+        )
         .build()
         .unwrap();
     let mut e = match (args.get(1), args.get(2)) {

@@ -8,7 +8,7 @@ use super::integrate::{
     integrate_clear_work, integrate_drift, integrate_kick, integrate_pairs,
     integrate_pairs_correcting, integrate_start, NextKick,
 };
-use super::neighbours::{neighbours, neighbours_list};
+use super::neighbours::{mark_partners_of, neighbours, neighbours_list};
 use super::scan::{contacts_clear_tally, contacts_pair_tests, contacts_scan};
 use super::walls::{reduce_walls_final, wall_contacts, wall_forces};
 use super::CpuEngine;
@@ -147,7 +147,7 @@ impl CpuEngine {
     fn contacts_of_the_listed_owners(&mut self) -> Result<(), EngineError> {
         let s = &mut self.state;
         let w = &mut self.workspace;
-        let list = &self.neighbours;
+        let list = &mut self.neighbours;
         let work = std::mem::take(&mut w.work);
         let changed = contacts(
             &s.law,
@@ -165,6 +165,11 @@ impl CpuEngine {
         let changed = changed?;
         if !changed.is_empty() && w.partner_index_current {
             w.partner_index_current = w.incoming.update(&s.contacts, &changed);
+        }
+        if list.partners_current {
+            for c in &changed {
+                mark_partners_of(list, &s.contacts, c.owner as usize);
+            }
         }
         Ok(())
     }

@@ -67,8 +67,10 @@ impl Deref for CpuEngine {
 
 impl DerefMut for CpuEngine {
     fn deref_mut(&mut self) -> &mut State {
-        // The caller may change the contact table: index it again before the next forces.
+        // The caller may change the contact table: index it again before the next forces, and
+        // mark the candidates that are partners again before the next scan.
         self.workspace.partner_index_current = false;
+        self.neighbours.partners_current = false;
         &mut self.state
     }
 }

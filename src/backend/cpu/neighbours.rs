@@ -11,7 +11,8 @@
 //! have a capacity); the CPU sorts cell keys and keeps one sorted list of all pairs, partners
 //! included (the contacts pass skips them): the same candidates.
 
-use super::workspace::{split_len, CHUNK};
+use super::workspace::{split_at_offsets, split_len, CHUNK};
+use crate::state::ContactTable;
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -32,6 +33,13 @@ pub struct NeighbourList {
     pub rebuild_due: bool,
     /// Every monomer by its cell (edge `contact_distance + skin`), sorted: `neighbours`' bins.
     pub cells: Vec<([i64; 3], u32)>,
+    /// Per pair, whether it is a contact of the table (`partner[k]` for `pairs[k]`), where
+    /// `partners_current`: the scan then skips these without reading the owner's row, as the
+    /// device's lists hold no partners ([`mark_partners`], [`mark_partners_of`]).
+    pub partner: Vec<bool>,
+    /// Whether `partner` matches the contact table: false from a rebuild (or a table changed
+    /// from outside) until the scan marks the pairs again.
+    pub partners_current: bool,
 }
 
 impl NeighbourList {
@@ -44,6 +52,8 @@ impl NeighbourList {
             reference: Vec::new(),
             rebuild_due: true,
             cells: Vec::new(),
+            partner: Vec::new(),
+            partners_current: false,
         }
     }
 
@@ -79,8 +89,46 @@ pub fn neighbours_list(position: &[DVec3], list: &mut NeighbourList) {
     }
     list.pairs = pairs_from_cells(position, &list.cells, list.contact_distance + list.skin);
     list.starts = owner_starts(&list.pairs, position.len());
+    list.partners_current = false;
     list.reference.clear();
     list.reference.extend_from_slice(position);
+}
+
+/// Marks every pair of the list that is a contact of `table` (`list.partner`), owner by owner
+/// in parallel.
+pub fn mark_partners(list: &mut NeighbourList, table: &ContactTable) {
+    let n = list.starts.len().saturating_sub(1);
+    let mut marks = std::mem::take(&mut list.partner);
+    marks.clear();
+    marks.resize(list.pairs.len(), false);
+    let (pairs, starts) = (&list.pairs, &list.starts);
+    let split = split_at_offsets(
+        &mut marks,
+        (0..=n.div_ceil(CHUNK)).map(|c| starts[(c * CHUNK).min(n)] as usize),
+    );
+    split
+        .into_par_iter()
+        .with_min_len(split_len(n, CHUNK))
+        .enumerate()
+        .for_each(|(chunk, marks)| {
+            let from = starts[(chunk * CHUNK).min(n)] as usize;
+            for (mark, &(i, j)) in marks.iter_mut().zip(&pairs[from..]) {
+                *mark = table.has_pair(i as usize, j);
+            }
+        });
+    list.partner = marks;
+    list.partners_current = true;
+}
+
+/// Marks owner `i`'s pairs again after its contacts changed.
+pub fn mark_partners_of(list: &mut NeighbourList, table: &ContactTable, i: usize) {
+    let range = list.starts[i] as usize..list.starts[i + 1] as usize;
+    for (mark, &(_, j)) in list.partner[range.clone()]
+        .iter_mut()
+        .zip(&list.pairs[range])
+    {
+        *mark = table.has_pair(i, j);
+    }
 }
 
 /// For pairs sorted by owner, the index of each owner's first pair (n + 1 entries, the last
