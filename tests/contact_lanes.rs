@@ -13,6 +13,7 @@ use dustdem::backend::cpu::integrate_lanes::{chunk_pairs, PairChunk};
 #[cfg(target_arch = "x86_64")]
 use dustdem::backend::cpu::lanes::Avx2;
 use dustdem::backend::cpu::lanes::{Portable, F4};
+use dustdem::backend::cpu::prefetch::Prefetching;
 use dustdem::material::Material;
 use dustdem::model::normal::{jkr_contact_radius_ratio, D_MIN};
 use dustdem::model::{ContactLaw, Damping, ModelOptions};
@@ -104,7 +105,7 @@ fn evaluate(
         slots: SLOTS,
         counts,
         first: 0,
-        prefetching: true,
+        prefetching: Prefetching::RowsAndPartners,
     };
     chunk_forces(lanes, law, m, chunk, &mut results);
     results
@@ -262,7 +263,7 @@ fn advanced(
         slots: SLOTS,
         counts,
         first: 0,
-        prefetching: true,
+        prefetching: Prefetching::RowsAndPartners,
     };
     // dt large enough that pointers turn measurably and some contacts cross their limits.
     chunk_pairs(lanes, law, 3e-10, m, chunk, &mut tests, None);
@@ -383,7 +384,7 @@ fn advanced_and_corrected(
         slots: SLOTS,
         counts,
         first: 0,
-        prefetching: true,
+        prefetching: Prefetching::RowsAndPartners,
     };
     let mut noted = Noted::with_room_for(rows_len(counts), true);
     chunk_pairs(lanes, law, DT, m, chunk, &mut tests, Some(&mut noted));
@@ -414,7 +415,7 @@ fn advanced_then_corrected(
         slots: SLOTS,
         counts,
         first: 0,
-        prefetching: true,
+        prefetching: Prefetching::RowsAndPartners,
     };
     chunk_pairs(ContactLanes::Scalar, law, DT, m, chunk, &mut tests, None);
     let mut drifted = m.clone();

@@ -10,7 +10,7 @@
 //! count and equal the device's bits.
 
 use super::forces_lanes::{chunk_forces, ContactLanes, OwnerChunk};
-use super::prefetch::worthwhile;
+use super::prefetch::for_contact_passes;
 use super::workspace::{chunk_offsets, split_at_offsets, split_len, Workspace, CHUNK};
 use crate::backend::script::{OWNER_CORRECTIONS, OWNER_INDEX};
 use crate::model::{rolling, sliding, twisting, ContactLaw};
@@ -127,7 +127,7 @@ pub fn forces(
         .resize(owner_start[n] as usize, PairResult::default());
     // Each chunk of owners writes its own contiguous stretch of results.
     let stretches = split_at_offsets(&mut workspace.pair_result, chunk_offsets(owner_start));
-    let prefetching = worthwhile(table);
+    let prefetching = for_contact_passes(table);
     let lanes = ContactLanes::chosen();
     let counts = &table.pair_count;
     table

@@ -13,7 +13,7 @@ use super::forces::PairResult;
 #[cfg(target_arch = "x86_64")]
 use super::lanes::Avx2;
 use super::lanes::{Isa, Portable, F4, M4, V4};
-use super::prefetch::{prefetch_one, prefetch_partners_ahead, prefetch_row_ahead};
+use super::prefetch::{prefetch_one, prefetch_partners_ahead, prefetch_row_ahead, Prefetching};
 use crate::model::damping::Damping;
 use crate::model::normal::{D_MIN, X_MIN, Y_MIN};
 use crate::model::ContactLaw;
@@ -96,7 +96,7 @@ pub struct OwnerChunk<'a, R> {
     pub slots: usize,
     pub counts: &'a [u32],
     pub first: usize,
-    pub prefetching: bool,
+    pub prefetching: Prefetching,
 }
 
 impl<R: std::ops::Deref<Target = [PairContact]>> OwnerChunk<'_, R> {
@@ -104,8 +104,10 @@ impl<R: std::ops::Deref<Target = [PairContact]>> OwnerChunk<'_, R> {
     /// positions and velocities, and their spins where `spins`.
     #[inline(always)]
     pub(super) fn prefetch_ahead(&self, m: &Monomers, k: usize, spins: bool) {
-        if self.prefetching {
+        if self.prefetching != Prefetching::Off {
             prefetch_row_ahead(&self.rows, self.slots, self.counts, k);
+        }
+        if self.prefetching == Prefetching::RowsAndPartners {
             prefetch_partners_ahead(&self.rows, self.slots, self.counts, k, |j| {
                 prefetch_one(&m.position[j]);
                 prefetch_one(&m.velocity[j]);

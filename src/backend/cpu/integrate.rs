@@ -9,7 +9,7 @@ use super::corrections_lanes::Noted;
 use super::forces_lanes::ContactLanes;
 use super::integrate_lanes::{chunk_pairs, PairChunk};
 use super::neighbours::NeighbourList;
-use super::prefetch::worthwhile;
+use super::prefetch::for_contact_passes;
 use super::workspace::{split_len, sum_in_order, CHUNK};
 use crate::backend::script::{PAIR_TEST_BEYOND, PAIR_TEST_BREAKS};
 use crate::model::pointer::rotate_pointer;
@@ -114,7 +114,7 @@ pub fn integrate_pairs(
     pair_tests: &mut [u32],
 ) {
     let slots = table.pair_slots;
-    let prefetching = worthwhile(table);
+    let prefetching = for_contact_passes(table);
     let lanes = ContactLanes::chosen();
     (
         table.pair.par_chunks_mut(CHUNK * slots),
@@ -152,7 +152,7 @@ pub fn integrate_pairs_correcting(
     tally: &mut Dissipation,
 ) {
     let slots = table.pair_slots;
-    let prefetching = worthwhile(table);
+    let prefetching = for_contact_passes(table);
     let lanes = ContactLanes::chosen();
     let books = tally.books_pair_corrections();
     let sums: Vec<Dissipation> = (

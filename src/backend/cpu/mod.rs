@@ -28,7 +28,7 @@ pub mod limits_lanes;
 pub mod memory;
 pub mod neighbours;
 pub mod partner_index;
-mod prefetch;
+pub mod prefetch;
 pub mod scan;
 pub mod wall_planes;
 pub mod walls;
