@@ -1,6 +1,6 @@
 //! Monomer–monomer contacts: the inelastic corrections (booked per channel as the drop of the
-//! contact's step energy; the contacts pass applies them, `forces_corrections` alone in
-//! tests) and the force pass, JKR, damping, rolling, sliding and twisting: the twins of
+//! contact's step energy; the contacts pass applies them as the device does, the CPU step in
+//! `integrate_pairs_correcting`, `forces_corrections` alone in tests) and the force pass, JKR, damping, rolling, sliding and twisting: the twins of
 //! `forces_corrections` and `forces` in shaders/passes/forces.wgsl.
 //!
 //! Data-parallel as the device does it: each owner evaluates its own contacts into per-contact
