@@ -22,6 +22,9 @@ use dustdem::state::{Dissipation, Monomers, PairContact};
 use glam::DVec3;
 
 const SLOTS: usize = 12;
+/// Time step of the contact tests: large enough that pointers turn measurably and some
+/// contacts cross their limits.
+const DT: f64 = 3e-10;
 
 fn law(damping: Damping) -> ContactLaw {
     let options = ModelOptions {
@@ -266,7 +269,7 @@ fn advanced(
         prefetching: Prefetching::RowsAndPartners,
     };
     // dt large enough that pointers turn measurably and some contacts cross their limits.
-    chunk_pairs(lanes, law, 3e-10, m, chunk, &mut tests, None);
+    chunk_pairs(lanes, law, DT, m, chunk, &mut tests, None);
     (row_bits(&rows), tests)
 }
 
@@ -298,6 +301,17 @@ fn the_pair_half_of_the_leap_frog_gives_the_scalar_bits_in_lanes() {
     }
 }
 
+/// The contacts of `contacts(law, 131, 11, 1e-2)` with every monomer spinning at random
+/// (about 10⁵ rad/s, seeded by `seed`), so that corrections change the step energies.
+fn spinning_contacts(law: &ContactLaw, seed: u64) -> (Monomers, Vec<PairContact>, Vec<u32>) {
+    let (mut m, rows, counts) = contacts(law, 131, 11, 1e-2);
+    let mut rng = Rng::new(seed);
+    for w in m.angular_velocity.iter_mut() {
+        *w = DVec3::new(rng.normal(), rng.normal(), rng.normal()) * 1e5;
+    }
+    (m, rows, counts)
+}
+
 fn corrected(
     lanes: ContactLanes,
     law: &ContactLaw,
@@ -313,18 +327,14 @@ fn corrected(
         .zip(counts)
         .enumerate()
         .map(|(i, (row, &count))| (i, &mut row[..count as usize]));
-    chunk_corrections(lanes, law, 3e-10, m, owners, booked.then_some(&mut tally));
+    chunk_corrections(lanes, law, DT, m, owners, booked.then_some(&mut tally));
     (row_bits(&rows), tally)
 }
 
 #[test]
 fn the_corrections_book_the_scalar_dissipation_bits_in_lanes() {
     let law = law(Damping::Viscous { kappa: 1e-6 });
-    let (mut m, rows, counts) = contacts(&law, 131, 11, 1e-2);
-    let mut rng = Rng::new(3);
-    for w in m.angular_velocity.iter_mut() {
-        *w = DVec3::new(rng.normal(), rng.normal(), rng.normal()) * 1e5;
-    }
+    let (m, rows, counts) = spinning_contacts(&law, 3);
     let (reference, tally) = corrected(ContactLanes::Scalar, &law, &m, &rows, &counts, true);
     eprintln!("scalar tally: {tally:?}");
     // Every channel booked something, so a channel mixed up shows.
@@ -346,11 +356,7 @@ fn the_corrections_book_the_scalar_dissipation_bits_in_lanes() {
 #[test]
 fn corrections_without_a_tally_leave_the_booked_corrections_bits_in_every_lane_choice() {
     let law = law(Damping::Viscous { kappa: 1e-6 });
-    let (mut m, rows, counts) = contacts(&law, 131, 11, 1e-2);
-    let mut rng = Rng::new(5);
-    for w in m.angular_velocity.iter_mut() {
-        *w = DVec3::new(rng.normal(), rng.normal(), rng.normal()) * 1e5;
-    }
+    let (m, rows, counts) = spinning_contacts(&law, 5);
     let (reference, _) = corrected(ContactLanes::Scalar, &law, &m, &rows, &counts, true);
     assert!(reference != row_bits(&rows), "some contact was corrected");
     for lanes in [
@@ -392,8 +398,6 @@ fn advanced_and_corrected(
     noted.book(lanes, law, DT, m, &mut tally);
     (row_bits(&rows), tests, tally)
 }
-
-const DT: f64 = 3e-10;
 
 fn rows_len(counts: &[u32]) -> usize {
     counts.iter().sum::<u32>() as usize
@@ -448,11 +452,7 @@ fn advanced_then_corrected(
 #[test]
 fn corrections_made_as_the_pairs_advance_are_the_contacts_pass_corrections_in_every_lane_choice() {
     let law = law(Damping::Viscous { kappa: 1e-6 });
-    let (mut m, rows, counts) = contacts(&law, 131, 11, 1e-2);
-    let mut rng = Rng::new(21);
-    for w in m.angular_velocity.iter_mut() {
-        *w = DVec3::new(rng.normal(), rng.normal(), rng.normal()) * 1e5;
-    }
+    let (m, rows, counts) = spinning_contacts(&law, 21);
     let (reference, tests, tally) =
         advanced_and_corrected(ContactLanes::Scalar, &law, &m, &rows, &counts);
     eprintln!("tally {tally:?}");

@@ -7,13 +7,20 @@ use dustdem::backend::cpu::CpuEngine;
 use dustdem::config::Config;
 use dustdem::experiment::compression::Compression;
 
+/// A CPU engine set up for an omnidirectional compression at 10 m/s of `monomers`.
+fn compression(monomers: usize, seed: u64) -> CpuEngine {
+    let text = format!(
+        "[sample]\nmonomers = {monomers}\nseed = {seed}\n[experiment]\nkind = \"omni\"\nwall_speed_m_s = 10.0\n"
+    );
+    let config = Config::parse(&text, "marks test").unwrap();
+    Compression::with_engine(&config, CpuEngine::new)
+        .unwrap()
+        .engine
+}
+
 #[test]
 fn the_marks_say_which_candidates_are_contacts_after_every_step() {
-    let text = "[sample]\nmonomers = 3000\nseed = 5\n[experiment]\nkind = \"omni\"\nwall_speed_m_s = 10.0\n";
-    let config = Config::parse(text, "marks test").unwrap();
-    let mut e = Compression::with_engine(&config, CpuEngine::new)
-        .unwrap()
-        .engine;
+    let mut e = compression(3000, 5);
     let (mut checked, mut rebuilds, mut changes) = (0, 0, 0);
     let mut contacts = e.contacts.pair_contact_count();
     let mut reference = e.neighbours.reference.clone();
@@ -43,11 +50,7 @@ fn the_marks_say_which_candidates_are_contacts_after_every_step() {
 
 #[test]
 fn a_table_changed_from_outside_is_marked_again_before_the_next_scan() {
-    let text = "[sample]\nmonomers = 300\nseed = 2\n[experiment]\nkind = \"omni\"\nwall_speed_m_s = 10.0\n";
-    let config = Config::parse(text, "marks test").unwrap();
-    let mut e = Compression::with_engine(&config, CpuEngine::new)
-        .unwrap()
-        .engine;
+    let mut e = compression(300, 2);
     e.run(10).unwrap();
     let i = (0..e.monomers.len())
         .find(|&i| !e.contacts.pairs_of(i).is_empty())

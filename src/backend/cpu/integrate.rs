@@ -113,27 +113,7 @@ pub fn integrate_pairs(
     table: &mut ContactTable,
     pair_tests: &mut [u32],
 ) {
-    let slots = table.pair_slots;
-    let prefetching = for_contact_passes(table);
-    let lanes = ContactLanes::chosen();
-    (
-        table.pair.par_chunks_mut(CHUNK * slots),
-        table.pair_count.par_chunks(CHUNK),
-        pair_tests.par_chunks_mut(CHUNK),
-    )
-        .into_par_iter()
-        .with_min_len(split_len(monomers.len(), CHUNK))
-        .enumerate()
-        .for_each(|(chunk, (rows, counts, tests))| {
-            let owners = PairChunk {
-                rows,
-                slots,
-                counts,
-                first: chunk * CHUNK,
-                prefetching,
-            };
-            chunk_pairs(lanes, law, dt, monomers, owners, tests, None);
-        });
+    pairs_pass(law, dt, monomers, table, pair_tests, None);
 }
 
 /// The CPU step's `integrate_pairs`: the same, and each pair contact beyond an inelastic
@@ -151,11 +131,26 @@ pub fn integrate_pairs_correcting(
     pair_tests: &mut [u32],
     tally: &mut Dissipation,
 ) {
+    let books = tally.books_pair_corrections();
+    let sums = pairs_pass(law, dt, monomers, table, pair_tests, Some(books));
+    tally.add(&sum_in_order(&sums));
+}
+
+/// Both forms of the pairs pass, parallel over chunks of owners; with `correcting` (whether
+/// the corrections are booked), each chunk's corrections and what they dissipated, one sum
+/// per chunk in order.
+fn pairs_pass(
+    law: &ContactLaw,
+    dt: f64,
+    monomers: &Monomers,
+    table: &mut ContactTable,
+    pair_tests: &mut [u32],
+    correcting: Option<bool>,
+) -> Vec<Dissipation> {
     let slots = table.pair_slots;
     let prefetching = for_contact_passes(table);
     let lanes = ContactLanes::chosen();
-    let books = tally.books_pair_corrections();
-    let sums: Vec<Dissipation> = (
+    (
         table.pair.par_chunks_mut(CHUNK * slots),
         table.pair_count.par_chunks(CHUNK),
         pair_tests.par_chunks_mut(CHUNK),
@@ -164,8 +159,6 @@ pub fn integrate_pairs_correcting(
         .with_min_len(split_len(monomers.len(), CHUNK))
         .enumerate()
         .map(|(chunk, (rows, counts, tests))| {
-            let contacts = counts.iter().map(|&c| c as usize).sum();
-            let mut noted = Noted::with_room_for(contacts, books);
             let owners = PairChunk {
                 rows,
                 slots,
@@ -173,15 +166,20 @@ pub fn integrate_pairs_correcting(
                 first: chunk * CHUNK,
                 prefetching,
             };
-            chunk_pairs(lanes, law, dt, monomers, owners, tests, Some(&mut noted));
             let mut dissipated = Dissipation::default();
+            let Some(books) = correcting else {
+                chunk_pairs(lanes, law, dt, monomers, owners, tests, None);
+                return dissipated;
+            };
+            let contacts = counts.iter().map(|&c| c as usize).sum();
+            let mut noted = Noted::with_room_for(contacts, books);
+            chunk_pairs(lanes, law, dt, monomers, owners, tests, Some(&mut noted));
             if books {
                 noted.book(lanes, law, dt, monomers, &mut dissipated);
             }
             dissipated
         })
-        .collect();
-    tally.add(&sum_in_order(&sums));
+        .collect()
 }
 
 /// One pair contact of owner `i` through `integrate_pairs`: the twist integral and both

@@ -65,13 +65,26 @@ fn chunk_scalar(
         let mut bits = 0;
         for s in chunk.contacts_of(k) {
             let (i, c) = (chunk.first + k, &mut chunk.rows[s]);
-            let tested = integrate_pair_contact(law, dt, m, i, c);
-            bits |= match noted.as_deref_mut() {
-                Some(noted) => correct_one(law, dt, m, i, c, tested, noted),
-                None => tested,
-            };
+            bits |= one_contact(law, dt, m, i, c, noted.as_deref_mut());
         }
         *test = bits;
+    }
+}
+
+/// One contact of owner `i` advanced and tested the scalar way, and corrected where `noted`;
+/// its tests.
+fn one_contact(
+    law: &ContactLaw,
+    dt: f64,
+    m: &Monomers,
+    i: usize,
+    c: &mut PairContact,
+    noted: Option<&mut Noted>,
+) -> u32 {
+    let tested = integrate_pair_contact(law, dt, m, i, c);
+    match noted {
+        Some(noted) => correct_one(law, dt, m, i, c, tested, noted),
+        None => tested,
     }
 }
 
@@ -156,11 +169,7 @@ fn chunk_in_lanes<S: Isa>(
     }
     for l in 0..filled {
         let (i, c) = (chunk.first + owner[l], &mut chunk.rows[slot[l]]);
-        let tested = integrate_pair_contact(law, dt, m, i, c);
-        tests[owner[l]] |= match noted.as_deref_mut() {
-            Some(noted) => correct_one(law, dt, m, i, c, tested, noted),
-            None => tested,
-        };
+        tests[owner[l]] |= one_contact(law, dt, m, i, c, noted.as_deref_mut());
     }
 }
 

@@ -169,9 +169,11 @@ pub fn wall_forces(
         p.clear();
         p.resize(blocks * stride, DVec3::ZERO);
     }
-    let mut pair_tests = std::mem::take(&mut workspace.pair_tests);
-    // One per monomer (integrate_kick's length), cleared below only where a kick joins.
-    pair_tests.resize(n, 0);
+    if next_kick.is_some() {
+        // integrate_kick's length for the next pairs pass, which writes every owner's tests
+        // (so they need no clearing here).
+        workspace.pair_tests.resize(n, 0);
+    }
     let ws = table.wall_slots;
     let ws_ref = &*workspace;
     let (wall_rows, wall_counts) = (&mut table.wall, &table.wall_count);
@@ -186,7 +188,6 @@ pub fn wall_forces(
         damping_partials.par_chunks_mut(CHUNK / REDUCE_BLOCK * stride),
         wall_rows.par_chunks_mut(CHUNK * ws),
         wall_counts.par_chunks(CHUNK),
-        pair_tests.par_chunks_mut(CHUNK),
     )
         .into_par_iter()
         .with_min_len(split_len(n, CHUNK))
@@ -194,7 +195,7 @@ pub fn wall_forces(
         .map(
             |(
                 chunk,
-                (velocity, spin, force, damping, torque, sums, damping_sums, rows, counts, tests),
+                (velocity, spin, force, damping, torque, sums, damping_sums, rows, counts),
             )| {
                 let first = chunk * CHUNK;
                 let mut work = 0.0;
@@ -210,10 +211,6 @@ pub fn wall_forces(
                         let row = &mut rows[k * ws..k * ws + counts[k] as usize];
                         kick.kick((f, t), scales, (&mut velocity[k], &mut spin[k]), row, walls);
                     }
-                }
-                if next_kick.is_some() {
-                    // integrate_kick's: this step's tests are read, the next one's start from none.
-                    tests.fill(0);
                 }
                 let results = &ws_ref.wall_result;
                 let rows = WallRows {
@@ -239,7 +236,6 @@ pub fn wall_forces(
     workspace.damping_work = damping_work;
     workspace.wall_partials = partials;
     workspace.wall_damping_partials = damping_partials;
-    workspace.pair_tests = pair_tests;
 }
 
 /// The monomer arrays `wall_forces` writes (and, kicking, the velocities), and the scales it
