@@ -9,7 +9,7 @@ use dustdem::backend::cpu::forces::PairResult;
 use dustdem::backend::cpu::forces_lanes::{
     chunk_forces, jkr_contact_radius_ratio_lanes, ContactLanes, OwnerChunk,
 };
-use dustdem::backend::cpu::integrate_lanes::{chunk_pairs, PairChunk};
+use dustdem::backend::cpu::integrate_lanes::{chunk_pairs, PairChunk, StepForm};
 #[cfg(target_arch = "x86_64")]
 use dustdem::backend::cpu::lanes::Avx2;
 use dustdem::backend::cpu::lanes::{Portable, F4};
@@ -374,15 +374,15 @@ fn corrections_without_a_tally_leave_the_booked_corrections_bits_in_every_lane_c
     }
 }
 
-/// The pair half of the leap-frog in the CPU step's form (`noted`: corrections applied as the
-/// contacts are advanced): rows, tests and the booked tally.
+/// The pair half of the leap-frog in the CPU step's form (corrections applied and forces
+/// evaluated as the contacts are advanced): rows, tests, the booked tally and the forces.
 fn advanced_and_corrected(
     lanes: ContactLanes,
     law: &ContactLaw,
     m: &Monomers,
     rows: &[PairContact],
     counts: &[u32],
-) -> (Vec<u64>, Vec<u32>, Dissipation) {
+) -> (Vec<u64>, Vec<u32>, Dissipation, Vec<PairResult>) {
     let mut rows = rows.to_vec();
     let mut tests = vec![u32::MAX; counts.len()];
     let chunk = PairChunk {
@@ -393,10 +393,15 @@ fn advanced_and_corrected(
         prefetching: Prefetching::RowsAndPartners,
     };
     let mut noted = Noted::with_room_for(rows_len(counts), true);
-    chunk_pairs(lanes, law, DT, m, chunk, &mut tests, Some(&mut noted));
+    let mut results = vec![PairResult::default(); rows_len(counts)];
+    let step = StepForm {
+        noted: &mut noted,
+        results: Some(&mut results),
+    };
+    chunk_pairs(lanes, law, DT, m, chunk, &mut tests, Some(step));
     let mut tally = Dissipation::default();
     noted.book(lanes, law, DT, m, &mut tally);
-    (row_bits(&rows), tests, tally)
+    (row_bits(&rows), tests, tally, results)
 }
 
 fn rows_len(counts: &[u32]) -> usize {
@@ -405,13 +410,14 @@ fn rows_len(counts: &[u32]) -> usize {
 
 /// The device's order on the same contacts: advanced (`chunk_pairs` without corrections), the
 /// monomers drifted, then every contact that does not break (δ < −δ_c, a breaking contact
-/// leaves the table first) through the contacts pass's corrections, owner by owner in order.
+/// leaves the table first) through the contacts pass's corrections, owner by owner in order,
+/// then the forces pass (the scalar reference) on every contact.
 fn advanced_then_corrected(
     law: &ContactLaw,
     m: &Monomers,
     rows: &[PairContact],
     counts: &[u32],
-) -> (Vec<u64>, Dissipation) {
+) -> (Vec<u64>, Dissipation, Vec<PairResult>) {
     let mut rows = rows.to_vec();
     let mut tests = vec![0; counts.len()];
     let chunk = PairChunk {
@@ -446,26 +452,40 @@ fn advanced_then_corrected(
         staying,
         Some(&mut tally),
     );
-    (row_bits(&rows), tally)
+    let mut results = vec![PairResult::default(); rows_len(counts)];
+    let chunk = OwnerChunk {
+        rows: &rows[..],
+        slots: SLOTS,
+        counts,
+        first: 0,
+        prefetching: Prefetching::Off,
+    };
+    chunk_forces(ContactLanes::Scalar, law, &drifted, chunk, &mut results);
+    (row_bits(&rows), tally, results)
 }
 
 #[test]
 fn corrections_made_as_the_pairs_advance_are_the_contacts_pass_corrections_in_every_lane_choice() {
     let law = law(Damping::Viscous { kappa: 1e-6 });
     let (m, rows, counts) = spinning_contacts(&law, 21);
-    let (reference, tests, tally) =
+    let (reference, tests, tally, forces) =
         advanced_and_corrected(ContactLanes::Scalar, &law, &m, &rows, &counts);
     eprintln!("tally {tally:?}");
     assert!(tally.rolling != 0.0 && tally.sliding != 0.0 && tally.twisting != 0.0);
     // Owners with breaking contacts keep that test; none is listed for corrections any more.
     assert!(tests.iter().filter(|&&t| t == 1).count() > 10);
     assert!(tests.iter().all(|&t| t <= 1), "no test says beyond");
-    let (device_order, device_tally) = advanced_then_corrected(&law, &m, &rows, &counts);
+    let (device_order, device_tally, device_forces) =
+        advanced_then_corrected(&law, &m, &rows, &counts);
     assert!(reference == device_order, "the contacts pass's corrections");
     assert_eq!(tally, device_tally, "the same drops in the same order");
+    let result_bits = |r: &[PairResult]| format!("{r:?}");
+    assert_eq!(result_bits(&forces), result_bits(&device_forces), "forces");
     for lanes in [ContactLanes::Portable, ContactLanes::detected()] {
-        let (bits, got_tests, got) = advanced_and_corrected(lanes, &law, &m, &rows, &counts);
+        let (bits, got_tests, got, got_forces) =
+            advanced_and_corrected(lanes, &law, &m, &rows, &counts);
         assert!(bits == reference, "{lanes:?}: pointers and twist");
+        assert_eq!(result_bits(&got_forces), result_bits(&forces), "{lanes:?}");
         assert_eq!(got_tests, tests, "{lanes:?}: tests");
         let channels = |d: &Dissipation| [d.rolling, d.sliding, d.twisting].map(f64::to_bits);
         assert_eq!(channels(&got), channels(&tally), "{lanes:?}: {got:?}");

@@ -1,5 +1,6 @@
 //! A CPU run applies the pair contacts' inelastic corrections in `integrate_pairs`
-//! (`integrate_pairs_correcting`), not in the contacts pass, and joins each step's kick to the
+//! (`integrate_pairs_step`), not in the contacts pass, evaluates the forces there too (the
+//! forces pass then only for the rows the events changed), and joins each step's kick to the
 //! gather of the step before (`wall_forces` with a `NextKick`), unlike the passes run one by one
 //! (the device's order). Both give the same state to the bit over a compression with contact
 //! events, corrections and wall contacts; the tally's correction channels add the same terms,

@@ -3,10 +3,10 @@
 //! every [`Kernel`], so an entry point added to the WGSL has no CPU engine until it has a twin.
 
 use super::contacts::contacts;
-use super::forces::{forces, forces_corrections};
+use super::forces::{forces, forces_corrections, forces_of_changed_rows};
 use super::integrate::{
-    integrate_clear_work, integrate_drift, integrate_kick, integrate_pairs,
-    integrate_pairs_correcting, integrate_start, NextKick,
+    integrate_clear_work, integrate_drift, integrate_kick, integrate_pairs, integrate_pairs_step,
+    integrate_start, NextKick,
 };
 use super::neighbours::{mark_partners_of, neighbours, neighbours_list};
 use super::scan::{contacts_clear_tally, contacts_pair_tests, contacts_scan};
@@ -67,7 +67,10 @@ impl CpuEngine {
                 let d = forces_corrections(&law, dt, &s.monomers, &mut s.contacts, &w.work);
                 s.tally.add(&d);
             }
-            Kernel::Forces => forces(&law, &s.monomers, &s.contacts, w),
+            Kernel::Forces => {
+                forces(&law, &s.monomers, &s.contacts, w);
+                w.results_of_step = false;
+            }
             Kernel::WallContacts => {
                 let work = std::mem::take(&mut w.work);
                 let d = wall_contacts(&law, dt, &s.walls, &s.monomers, &mut s.contacts, &work, w);
@@ -97,19 +100,26 @@ impl CpuEngine {
         Ok(())
     }
 
-    /// One pass as the step runs it: `integrate_pairs` in its correcting form
-    /// (`integrate_pairs_correcting`: the pair contacts' inelastic corrections applied where
-    /// their pointers are advanced, not in `contacts`), every other pass as [`Self::run_pass`].
-    /// The state after a whole step is the same to the bit either way; `run_pass` keeps each
-    /// pass the device's twin, for comparing them pass by pass.
+    /// One pass as the step runs it: `integrate_pairs` in its step form
+    /// (`integrate_pairs_step`: the pair contacts' inelastic corrections applied, and their
+    /// forces evaluated, where their pointers are advanced), `forces` then only for the rows
+    /// the contact events changed (`forces_of_changed_rows`), every other pass as
+    /// [`Self::run_pass`]. The state after a whole step is the same to the bit either way;
+    /// `run_pass` keeps each pass the device's twin, for comparing them pass by pass.
     pub fn run_step_pass(&mut self, pass: Kernel) -> Result<(), EngineError> {
-        if pass != Kernel::IntegratePairs {
-            return self.run_pass(pass);
-        }
         let s = &mut self.state;
-        let tests = &mut self.workspace.pair_tests;
+        let w = &mut self.workspace;
         let (law, dt) = (s.law, s.dt);
-        integrate_pairs_correcting(&law, dt, &s.monomers, &mut s.contacts, tests, &mut s.tally);
+        match pass {
+            Kernel::IntegratePairs => {
+                integrate_pairs_step(&law, dt, &s.monomers, &mut s.contacts, w, &mut s.tally)
+            }
+            Kernel::Forces if w.results_of_step && w.partner_index_current => {
+                forces_of_changed_rows(&law, &s.monomers, &s.contacts, w);
+                w.results_of_step = false;
+            }
+            _ => return self.run_pass(pass),
+        }
         Ok(())
     }
 
@@ -164,7 +174,12 @@ impl CpuEngine {
         w.work = work;
         let changed = changed?;
         if !changed.is_empty() && w.partner_index_current {
-            w.partner_index_current = w.incoming.update(&s.contacts, &changed);
+            // The pairs pass's forces move with the rows the events left alone.
+            let results = w.results_of_step.then_some(&mut w.pair_result[..]);
+            w.partner_index_current = w.incoming.update_moving(&s.contacts, &changed, results);
+        }
+        if w.results_of_step {
+            w.changed_rows.extend(changed.iter().map(|c| c.owner));
         }
         if list.partners_current {
             for c in &changed {

@@ -19,6 +19,7 @@ use crate::model::normal::{D_MIN, X_MIN, Y_MIN};
 use crate::model::ContactLaw;
 use crate::state::interaction::pair_interaction;
 use crate::state::{Monomers, PairContact};
+use glam::DVec3;
 use std::sync::OnceLock;
 
 /// How the force pass evaluates the contact law: one contact at a time, or four at a time in
@@ -161,11 +162,26 @@ fn chunk_scalar(law: &ContactLaw, m: &Monomers, chunk: ForceChunk, results: &mut
     }
 }
 
-fn scalar_result(law: &ContactLaw, m: &Monomers, i: usize, c: &PairContact) -> PairResult {
+pub(super) fn scalar_result(
+    law: &ContactLaw,
+    m: &Monomers,
+    i: usize,
+    c: &PairContact,
+) -> PairResult {
     let j = c.partner as usize;
     let (p, v) = (&m.position, &m.velocity);
-    let (force, damping, torque_owner, torque_partner) =
-        pair_interaction(law, p[i], p[j], v[i], v[j], c);
+    result_at(law, [p[i], p[j]], [v[i], v[j]], c)
+}
+
+/// What contact `c` exerts with its monomers at `x` and moving at `v` (owner, partner).
+#[inline]
+pub(super) fn result_at(
+    law: &ContactLaw,
+    [x1, x2]: [DVec3; 2],
+    [v1, v2]: [DVec3; 2],
+    c: &PairContact,
+) -> PairResult {
+    let (force, damping, torque_owner, torque_partner) = pair_interaction(law, x1, x2, v1, v2, c);
     PairResult {
         force,
         damping,
@@ -238,6 +254,19 @@ fn four_results<S: Isa>(
     let x2 = V4::<S>::gather(|l| p[partner(l)]);
     let v1 = V4::<S>::gather(|l| v[owner[l]]);
     let v2 = V4::<S>::gather(|l| v[partner(l)]);
+    results_of_four(law, [x1, x2], [v1, v2], c, out);
+}
+
+/// What four contacts `c` exert with their monomers at `x` and moving at `v` (owners,
+/// partners), into `out`.
+#[inline(always)]
+pub(super) fn results_of_four<S: Isa>(
+    law: &ContactLaw,
+    [x1, x2]: [V4<S>; 2],
+    [v1, v2]: [V4<S>; 2],
+    c: [&PairContact; 4],
+    out: &mut [PairResult],
+) {
     let n1 = V4::<S>::gather(|l| c[l].n1);
     let n2 = V4::<S>::gather(|l| c[l].n2);
     let twist = F4::<S>::new([c[0].twist, c[1].twist, c[2].twist, c[3].twist]);

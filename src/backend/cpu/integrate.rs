@@ -6,11 +6,14 @@
 //! shaders/passes/integrate.wgsl, one function each.
 
 use super::corrections_lanes::Noted;
+use super::forces::PairResult;
 use super::forces_lanes::ContactLanes;
-use super::integrate_lanes::{chunk_pairs, PairChunk};
+use super::integrate_lanes::{chunk_pairs, PairChunk, StepForm};
 use super::neighbours::NeighbourList;
 use super::prefetch::for_contact_passes;
-use super::workspace::{split_len, sum_in_order, CHUNK};
+use super::workspace::{
+    chunk_offsets, split_at_offsets, split_len, sum_in_order, Workspace, CHUNK,
+};
 use crate::backend::script::{PAIR_TEST_BEYOND, PAIR_TEST_BREAKS};
 use crate::model::pointer::rotate_pointer;
 use crate::model::twisting::twist_increment;
@@ -113,32 +116,59 @@ pub fn integrate_pairs(
     table: &mut ContactTable,
     pair_tests: &mut [u32],
 ) {
-    pairs_pass(law, dt, monomers, table, pair_tests, None);
+    pairs_pass(law, dt, monomers, table, pair_tests, None, None);
 }
 
-/// The CPU step's `integrate_pairs`: the same, and each pair contact beyond an inelastic
-/// limit that does not break corrected now, its dissipation added to `tally` (where booked),
-/// instead of in the contacts pass. The corrections are the contacts pass's on the same values
-/// (the positions the drift stores, the same pointers), so the state after the step has the
-/// same bits; the tally's sum differs only in the order of one owner's corrections where a
-/// contact of it breaks (the events reorder its slots). DESIGN.md, "The CPU engine: the
-/// corrections where the pointers are".
-pub fn integrate_pairs_correcting(
+/// The CPU step's `integrate_pairs`: the same, and two things the device does later.
+///
+/// 1. Each pair contact beyond an inelastic limit that does not break is corrected now, its
+///    dissipation added to `tally` (where booked), instead of in the contacts pass. The
+///    corrections are the contacts pass's on the same values (the positions the drift stores,
+///    the same pointers), so the state after the step has the same bits; the tally's sum
+///    differs only in the order of one owner's corrections where a contact of it breaks (the
+///    events reorder its slots). DESIGN.md, "The CPU engine: the corrections where the
+///    pointers are".
+/// 2. Each contact's force at the positions the drift is about to store goes into
+///    `workspace.pair_result`, where `forces` would put it (by the partner index, rebuilt
+///    first where stale). The contacts pass then moves those results with the rows its events
+///    leave alone, and the step's `forces` evaluates only the rows the events changed
+///    (`forces_of_changed_rows`): the same values from the same operations, one sweep over
+///    the contacts fewer. DESIGN.md, "The CPU engine: the forces where the pointers are".
+pub fn integrate_pairs_step(
     law: &ContactLaw,
     dt: f64,
     monomers: &Monomers,
     table: &mut ContactTable,
-    pair_tests: &mut [u32],
+    workspace: &mut Workspace,
     tally: &mut Dissipation,
 ) {
+    if !workspace.partner_index_current {
+        workspace.incoming.rebuild(table);
+        workspace.partner_index_current = true;
+    }
+    let owner_start = workspace.incoming.owner_start();
+    let results = &mut workspace.pair_result;
+    results.resize(owner_start[monomers.len()] as usize, PairResult::default());
+    let stretches = split_at_offsets(results, chunk_offsets(owner_start));
     let books = tally.books_pair_corrections();
-    let sums = pairs_pass(law, dt, monomers, table, pair_tests, Some(books));
+    let tests = &mut workspace.pair_tests;
+    let sums = pairs_pass(
+        law,
+        dt,
+        monomers,
+        table,
+        tests,
+        Some(books),
+        Some(stretches),
+    );
     tally.add(&sum_in_order(&sums));
+    workspace.results_of_step = true;
+    workspace.changed_rows.clear();
 }
 
-/// Both forms of the pairs pass, parallel over chunks of owners; with `correcting` (whether
+/// Every form of the pairs pass, parallel over chunks of owners; with `correcting` (whether
 /// the corrections are booked), each chunk's corrections and what they dissipated, one sum
-/// per chunk in order.
+/// per chunk in order, and with `results` (a stretch per chunk) the contacts' forces.
 fn pairs_pass(
     law: &ContactLaw,
     dt: f64,
@@ -146,19 +176,26 @@ fn pairs_pass(
     table: &mut ContactTable,
     pair_tests: &mut [u32],
     correcting: Option<bool>,
+    results: Option<Vec<&mut [PairResult]>>,
 ) -> Vec<Dissipation> {
     let slots = table.pair_slots;
     let prefetching = for_contact_passes(table);
     let lanes = ContactLanes::chosen();
+    let chunks = monomers.len().div_ceil(CHUNK);
+    let stretches: Vec<Option<&mut [PairResult]>> = match results {
+        Some(r) => r.into_iter().map(Some).collect(),
+        None => (0..chunks).map(|_| None).collect(),
+    };
     (
         table.pair.par_chunks_mut(CHUNK * slots),
         table.pair_count.par_chunks(CHUNK),
         pair_tests.par_chunks_mut(CHUNK),
+        stretches.into_par_iter(),
     )
         .into_par_iter()
         .with_min_len(split_len(monomers.len(), CHUNK))
         .enumerate()
-        .map(|(chunk, (rows, counts, tests))| {
+        .map(|(chunk, (rows, counts, tests, results))| {
             let owners = PairChunk {
                 rows,
                 slots,
@@ -173,7 +210,11 @@ fn pairs_pass(
             };
             let contacts = counts.iter().map(|&c| c as usize).sum();
             let mut noted = Noted::with_room_for(contacts, books);
-            chunk_pairs(lanes, law, dt, monomers, owners, tests, Some(&mut noted));
+            let step = StepForm {
+                noted: &mut noted,
+                results,
+            };
+            chunk_pairs(lanes, law, dt, monomers, owners, tests, Some(step));
             if books {
                 noted.book(lanes, law, dt, monomers, &mut dissipated);
             }

@@ -6,13 +6,16 @@
 //! (lanes.rs), so pointers, twist and tests are the scalar code's bits; a pointer whose
 //! monomer does not spin is kept as it is, as the scalar code returns it.
 //!
-//! The step's form (`integrate_pairs_correcting`, integrate.rs) also applies the inelastic
-//! corrections of each contact beyond a limit that does not break, here, where its pointers,
-//! positions and velocities are in the lanes already; the contacts pass would apply the same
-//! corrections to the same values after the drift (corrections_lanes.rs).
+//! The step's form (`integrate_pairs_step`, integrate.rs, [`StepForm`]) also applies the
+//! inelastic corrections of each contact beyond a limit that does not break, here, where its
+//! pointers, positions and velocities are in the lanes already; the contacts pass would apply
+//! the same corrections to the same values after the drift (corrections_lanes.rs). Then it
+//! evaluates each contact's force on those values (`results_of_four`, forces_lanes.rs), as
+//! the forces pass would after the events.
 
 use super::corrections_lanes::{Found, Noted};
-use super::forces_lanes::{ContactLanes, OwnerChunk};
+use super::forces::PairResult;
+use super::forces_lanes::{result_at, results_of_four, ContactLanes, OwnerChunk};
 use super::integrate::integrate_pair_contact;
 #[cfg(target_arch = "x86_64")]
 use super::lanes::Avx2;
@@ -26,9 +29,19 @@ use crate::state::{Monomers, PairContact};
 /// `integrate_pairs`' chunk of owners: it advances the rows in place.
 pub type PairChunk<'a> = OwnerChunk<'a, &'a mut [PairContact]>;
 
+/// What the step's form of the pass does besides advancing and testing: the corrections
+/// (their states noted for the booking) and, where `results` is given, each contact's
+/// force at the step's new positions into it, in owner and slot order (the chunk's stretch of
+/// the per-contact results `forces` would fill after the events).
+pub struct StepForm<'a> {
+    pub noted: &'a mut Noted,
+    pub results: Option<&'a mut [PairResult]>,
+}
+
 /// The chunk's pair contacts advanced and tested, `lanes` wide; `tests[k]` gets owner k's
-/// tests. With `noted`, each contact beyond a limit that does not break is corrected too,
-/// its states noted for the booking, and no test says beyond.
+/// tests. With `step`, each contact beyond a limit that does not break is corrected too,
+/// its states noted for the booking, no test says beyond, and the forces are evaluated where
+/// it asks for them.
 pub fn chunk_pairs(
     lanes: ContactLanes,
     law: &ContactLaw,
@@ -36,19 +49,36 @@ pub fn chunk_pairs(
     m: &Monomers,
     chunk: PairChunk,
     tests: &mut [u32],
-    noted: Option<&mut Noted>,
+    step: Option<StepForm>,
 ) {
     match lanes {
-        ContactLanes::Scalar => chunk_scalar(law, dt, m, chunk, tests, noted),
-        ContactLanes::Portable => chunk_in_lanes::<Portable>(law, dt, m, chunk, tests, noted),
+        ContactLanes::Scalar => chunk_scalar(law, dt, m, chunk, tests, step),
+        ContactLanes::Portable => chunk_in_lanes::<Portable>(law, dt, m, chunk, tests, step),
         #[cfg(target_arch = "x86_64")]
         ContactLanes::Avx2 => {
             assert!(std::arch::is_x86_feature_detected!("avx2"));
             // SAFETY: the processor has AVX2 (checked above).
-            unsafe { chunk_avx2(law, dt, m, chunk, tests, noted) }
+            unsafe { chunk_avx2(law, dt, m, chunk, tests, step) }
         }
         #[cfg(not(target_arch = "x86_64"))]
-        ContactLanes::Avx2 => chunk_in_lanes::<Portable>(law, dt, m, chunk, tests, noted),
+        ContactLanes::Avx2 => chunk_in_lanes::<Portable>(law, dt, m, chunk, tests, step),
+    }
+}
+
+/// The optional parts of a [`StepForm`], reborrowed for one batch.
+fn parts<'s>(
+    step: &'s mut Option<StepForm>,
+    written: usize,
+    len: usize,
+) -> (Option<&'s mut Noted>, Option<&'s mut [PairResult]>) {
+    match step {
+        None => (None, None),
+        Some(StepForm { noted, results }) => (
+            Some(&mut **noted),
+            results
+                .as_deref_mut()
+                .map(|r| &mut r[written..written + len]),
+        ),
     }
 }
 
@@ -58,34 +88,42 @@ fn chunk_scalar(
     m: &Monomers,
     chunk: PairChunk,
     tests: &mut [u32],
-    mut noted: Option<&mut Noted>,
+    mut step: Option<StepForm>,
 ) {
+    let mut written = 0;
     for (k, test) in tests.iter_mut().enumerate() {
         chunk.prefetch_ahead(m, k, true);
         let mut bits = 0;
         for s in chunk.contacts_of(k) {
             let (i, c) = (chunk.first + k, &mut chunk.rows[s]);
-            bits |= one_contact(law, dt, m, i, c, noted.as_deref_mut());
+            bits |= one_contact(law, dt, m, i, c, parts(&mut step, written, 1));
+            written += 1;
         }
         *test = bits;
     }
 }
 
-/// One contact of owner `i` advanced and tested the scalar way, and corrected where `noted`;
-/// its tests.
+/// One contact of owner `i` advanced and tested the scalar way, corrected where `noted` and
+/// its force put in `out` where given; its tests.
 fn one_contact(
     law: &ContactLaw,
     dt: f64,
     m: &Monomers,
     i: usize,
     c: &mut PairContact,
-    noted: Option<&mut Noted>,
+    (noted, out): (Option<&mut Noted>, Option<&mut [PairResult]>),
 ) -> u32 {
     let tested = integrate_pair_contact(law, dt, m, i, c);
-    match noted {
+    let bits = match noted {
         Some(noted) => correct_one(law, dt, m, i, c, tested, noted),
         None => tested,
+    };
+    if let Some(out) = out {
+        let (p, v, j) = (&m.position, &m.velocity, c.partner as usize);
+        let x = [p[i] + v[i] * dt, p[j] + v[j] * dt];
+        out[0] = result_at(law, x, [v[i], v[j]], c);
     }
+    bits
 }
 
 /// Whether a contact's tests ask for its corrections now: beyond a limit, not breaking (a
@@ -126,9 +164,9 @@ unsafe fn chunk_avx2(
     m: &Monomers,
     chunk: PairChunk,
     tests: &mut [u32],
-    noted: Option<&mut Noted>,
+    step: Option<StepForm>,
 ) {
-    chunk_in_lanes::<Avx2>(law, dt, m, chunk, tests, noted)
+    chunk_in_lanes::<Avx2>(law, dt, m, chunk, tests, step)
 }
 
 /// The chunk's contacts in batches of four across owners; a last batch of fewer goes one at a
@@ -140,11 +178,12 @@ fn chunk_in_lanes<S: Isa>(
     m: &Monomers,
     chunk: PairChunk,
     tests: &mut [u32],
-    mut noted: Option<&mut Noted>,
+    mut step: Option<StepForm>,
 ) {
     let mut owner = [0usize; 4];
     let mut slot = [0usize; 4];
     let mut filled = 0;
+    let mut written = 0;
     for k in 0..tests.len() {
         chunk.prefetch_ahead(m, k, true);
         tests[k] = 0;
@@ -159,17 +198,19 @@ fn chunk_in_lanes<S: Isa>(
                     owner: &owner,
                     slot: &slot,
                 };
-                let bits = four_pairs::<S>(law, dt, m, at, noted.as_deref_mut());
+                let bits = four_pairs::<S>(law, dt, m, at, parts(&mut step, written, 4));
                 for l in 0..4 {
                     tests[owner[l]] |= bits[l];
                 }
+                written += 4;
                 filled = 0;
             }
         }
     }
     for l in 0..filled {
         let (i, c) = (chunk.first + owner[l], &mut chunk.rows[slot[l]]);
-        tests[owner[l]] |= one_contact(law, dt, m, i, c, noted.as_deref_mut());
+        let form = parts(&mut step, written + l, 1);
+        tests[owner[l]] |= one_contact(law, dt, m, i, c, form);
     }
 }
 
@@ -181,15 +222,15 @@ struct Four<'a> {
     slot: &'a [usize; 4],
 }
 
-/// Four contacts advanced in place, and corrected where `noted` and their tests ask for it;
-/// their tests.
+/// Four contacts advanced in place, corrected where `noted` and their tests ask for it, and
+/// their forces put in `out` where given; their tests.
 #[inline(always)]
 fn four_pairs<S: Isa>(
     law: &ContactLaw,
     dt: f64,
     m: &Monomers,
     four: Four,
-    noted: Option<&mut Noted>,
+    (noted, out): (Option<&mut Noted>, Option<&mut [PairResult]>),
 ) -> [u32; 4] {
     let Four {
         rows,
@@ -231,11 +272,41 @@ fn four_pairs<S: Isa>(
     let Some(noted) = noted else {
         return bits;
     };
-    // The scan lists no owner for corrections after these (see `correct_one`).
-    let scanned = bits.map(|b| b & !PAIR_TEST_BEYOND);
-    if !bits.iter().any(|&b| corrected_now(b)) {
-        return scanned;
+    let at = Four {
+        rows: &mut *rows,
+        first,
+        owner,
+        slot,
+    };
+    correct_four(law, at, [x1, x2, v1, v2], [n1, n2, nc], bits, noted);
+    if let Some(out) = out {
+        let c = slot.map(|s| &rows[s]);
+        results_of_four(law, [x1, x2], [v1, v2], c, out);
     }
+    // The scan lists no owner for corrections after these (see `correct_one`).
+    bits.map(|b| b & !PAIR_TEST_BEYOND)
+}
+
+/// The corrections of those of four contacts whose `bits` ask for them, with their monomers
+/// at `x1`, `x2` moving at `v1`, `v2`, their advanced pointers `n1`, `n2` and normals `nc`.
+#[inline(always)]
+fn correct_four<S: Isa>(
+    law: &ContactLaw,
+    four: Four,
+    [x1, x2, v1, v2]: [V4<S>; 4],
+    [n1, n2, nc]: [V4<S>; 3],
+    bits: [u32; 4],
+    noted: &mut Noted,
+) {
+    if !bits.iter().any(|&b| corrected_now(b)) {
+        return;
+    }
+    let Four {
+        rows,
+        first,
+        owner,
+        slot,
+    } = four;
     // Corrections::found of the twin (corrections_lanes.rs) on the same values: the rolling
     // correction, then the sliding one on the pointers it left.
     let k = &law.pair;
@@ -255,7 +326,6 @@ fn four_pairs<S: Isa>(
             frames.lane(l)
         });
     }
-    scanned
 }
 
 /// `pair_frame` of four contacts: the lanes' operations in its order, the same bits.

@@ -73,6 +73,7 @@ impl DerefMut for CpuEngine {
         // The caller may change the contact table: index it again before the next forces, and
         // mark the candidates that are partners again before the next scan.
         self.workspace.partner_index_current = false;
+        self.workspace.results_of_step = false;
         self.neighbours.partners_current = false;
         &mut self.state
     }

@@ -3,19 +3,60 @@
 //!
 //! Each monomer keeps the contacts it is the partner of as entries `owner << slot_bits | slot`,
 //! ascending (owner and slot order, the gather's order), in `room` places of its own; a
-//! result's position is `owner_start[owner] + slot`, the owners' contacts one after another.
-//! So a contact event touches only the entries of the partners of the rows it changed
-//! ([`PartnerIndex::update`]) and the running totals `owner_start`. Under compression nearly
-//! every step has events but few rows change (23 of 10⁴ rows per step at φ 0.45): the full
-//! rebuild after each such step had been 7 % of a one-thread step's instructions (DESIGN.md,
-//! "CPU engine: the partner index"). The full rebuild remains for a new or replaced table,
-//! and for a monomer whose entries outgrow their room.
+//! result's position is `owner_start[owner] + slot`. The owners of one chunk of [`CHUNK`]
+//! (the passes' unit of parallel work) have their contacts one after another in the chunk's
+//! stretch, which keeps some spare places at its end ([`spare_results`]). So a contact event
+//! touches only the entries of the partners of the rows it changed ([`PartnerIndex::update`])
+//! and the starts of the owners after it in its own chunk, and the results of the chunk's
+//! other owners can move with them ([`PartnerIndex::update_moving`]) instead of being
+//! evaluated again. Under compression nearly every step has events but few rows change (23 of
+//! 10⁴ rows per step at φ 0.45): the full rebuild after each such step had been 7 % of a
+//! one-thread step's instructions (DESIGN.md, "CPU engine: the partner index"). The full
+//! rebuild remains for a new or replaced table, for a monomer whose entries outgrow their
+//! room, and for a chunk whose contacts outgrow its stretch.
 
+use super::workspace::CHUNK;
 use crate::state::ContactTable;
 
 /// Spare places per monomer beyond the most entries any monomer had at the full rebuild, so
 /// that a contact forming does not force another rebuild at once.
 const SPARE_ROOM: usize = 2;
+
+/// Moves the results of the owners of one chunk from their `old` starts to their new `start`s
+/// (from its first changed owner on, `counts` theirs), all but the `changed` ones (ascending,
+/// their rows to be evaluated again), in place: each run of unchanged owners moves as one
+/// block by one shift, those moving down first in order, then those moving up in reverse
+/// order, so that no block lands on one not moved yet.
+fn move_unchanged<T: Copy>(
+    results: &mut [T],
+    old: &[u32],
+    start: &[u32],
+    counts: &[u32],
+    changed: impl Iterator<Item = usize>,
+) {
+    let mut blocks = Vec::new();
+    let mut run_from = 0;
+    for k in changed.chain(std::iter::once(old.len())) {
+        if k > run_from {
+            let (first, last) = (run_from, k - 1);
+            let len = (old[last] + counts[last] - old[first]) as usize;
+            blocks.push((old[first] as usize, start[first] as usize, len));
+        }
+        run_from = k + 1;
+    }
+    for &(from, to, len) in blocks.iter().filter(|b| b.1 < b.0) {
+        results.copy_within(from..from + len, to);
+    }
+    for &(from, to, len) in blocks.iter().rev().filter(|b| b.1 > b.0) {
+        results.copy_within(from..from + len, to);
+    }
+}
+
+/// Spare places at the end of a chunk's stretch of results holding `contacts`: an eighth more,
+/// and at least 8, so that the contacts formed over many steps fit before a rebuild.
+pub fn spare_results(contacts: u32) -> u32 {
+    contacts / 8 + 8
+}
 
 /// An owner's pair row before the contact events changed it: its partners by slot.
 #[derive(Clone, Debug, PartialEq)]
@@ -75,19 +116,36 @@ impl PartnerIndex {
             }
         }
         self.owner_start.clear();
-        self.owner_start.push(0);
-        let mut total = 0;
-        for &count in &table.pair_count {
-            total += count;
-            self.owner_start.push(total);
+        self.owner_start.resize(n + 1, 0);
+        let mut start = 0;
+        for first in (0..n).step_by(CHUNK) {
+            let mut contacts = 0;
+            for i in first..(first + CHUNK).min(n) {
+                self.owner_start[i] = start + contacts;
+                contacts += table.pair_count[i];
+            }
+            start += contacts + spare_results(contacts);
         }
+        self.owner_start[n] = start;
     }
 
     /// Brings the index up to date after contact events changed the rows `changes` lists (by
     /// ascending owner, each with its partners before): the old rows' entries removed, the new
-    /// rows' inserted in order, the running totals from the first changed owner on. Returns
-    /// false, the index then stale, where a monomer's entries outgrew their room: rebuild it.
+    /// rows' inserted in order, the starts of the owners after each changed one in its chunk.
+    /// Returns false, the index then stale, where a monomer's entries outgrew their room or a
+    /// chunk's contacts its stretch: rebuild it.
     pub fn update(&mut self, table: &ContactTable, changes: &[RowChange]) -> bool {
+        self.update_moving::<()>(table, changes, None)
+    }
+
+    /// [`Self::update`], and the per-contact `results` of the owners whose rows did not change
+    /// moved to their new positions (the changed rows' results are left to evaluate).
+    pub fn update_moving<T: Copy>(
+        &mut self,
+        table: &ContactTable,
+        changes: &[RowChange],
+        mut results: Option<&mut [T]>,
+    ) -> bool {
         for change in changes {
             let i = change.owner as usize;
             for (s, &j) in change.partners_before.iter().enumerate() {
@@ -102,11 +160,43 @@ impl PartnerIndex {
                 }
             }
         }
-        if let Some(first) = changes.first() {
-            let start = &mut self.owner_start;
-            for i in first.owner as usize..table.pair_count.len() {
-                start[i + 1] = start[i] + table.pair_count[i];
+        let mut rest = changes;
+        while let Some(first) = rest.first() {
+            let chunk = first.owner as usize / CHUNK;
+            let within = rest.partition_point(|c| c.owner as usize / CHUNK == chunk);
+            let (these, after) = rest.split_at(within);
+            if !self.restart_chunk(table, these, results.as_deref_mut()) {
+                return false;
             }
+            rest = after;
+        }
+        true
+    }
+
+    /// The starts of the owners of one chunk from its first changed row (`changes`, all in
+    /// that chunk) on, the unchanged owners' `results` moved with them; false where the
+    /// chunk's contacts no longer fit its stretch.
+    fn restart_chunk<T: Copy>(
+        &mut self,
+        table: &ContactTable,
+        changes: &[RowChange],
+        results: Option<&mut [T]>,
+    ) -> bool {
+        let n = table.pair_count.len();
+        let from = changes[0].owner as usize;
+        let end = ((from / CHUNK + 1) * CHUNK).min(n);
+        let start = &mut self.owner_start;
+        let old: Vec<u32> = start[from..end].to_vec();
+        for i in from..end - 1 {
+            start[i + 1] = start[i] + table.pair_count[i];
+        }
+        if start[end - 1] + table.pair_count[end - 1] > start[end] {
+            return false;
+        }
+        if let Some(results) = results {
+            let changed = changes.iter().map(|c| c.owner as usize - from);
+            let counts = &table.pair_count[from..end];
+            move_unchanged(results, &old, &start[from..end], counts, changed);
         }
         true
     }
@@ -147,7 +237,38 @@ impl PartnerIndex {
             .map(move |&e| self.owner_start[(e >> self.slot_bits) as usize] + (e & mask))
     }
 
-    /// Where owner `i`'s results begin (`n + 1` entries; the last is the number of contacts).
+    /// The contacts monomer `j` is the partner of, as (owner, slot), in the gather's order.
+    pub fn contacts_of_partner(&self, j: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
+        let mask = (1u32 << self.slot_bits) - 1;
+        let entries = &self.entries[j * self.room..j * self.room + self.count[j] as usize];
+        entries
+            .iter()
+            .map(move |&e| ((e >> self.slot_bits) as usize, (e & mask) as usize))
+    }
+
+    /// Whether the owners' results are laid out as the gather needs for `table`: within each
+    /// chunk one after another, ascending, none overlapping the next or leaving the chunk's
+    /// stretch. Where not, says which owner is out of place.
+    pub fn check_layout(&self, table: &ContactTable) -> Result<(), String> {
+        let n = table.pair_count.len();
+        if self.owner_start.len() != n + 1 {
+            return Err(format!("{} starts for {n} owners", self.owner_start.len()));
+        }
+        for first in (0..n).step_by(CHUNK) {
+            let end = (first + CHUNK).min(n);
+            for i in first..end {
+                let limit = self.owner_start[i + 1];
+                let last = self.owner_start[i] + table.pair_count[i];
+                if last > limit || (i + 1 < end && last != limit) {
+                    return Err(format!("owner {i}: results end at {last}, next at {limit}"));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Where owner `i`'s results begin (`n + 1` entries; the last is the length of the
+    /// results, spare places included; owner `i`'s are the `pair_count[i]` from its start).
     pub fn owner_start(&self) -> &[u32] {
         &self.owner_start
     }
@@ -179,30 +300,32 @@ mod tests {
         t.pair_count[i] = partners.len() as u32;
     }
 
-    /// The definition: positions counted in owner and slot order, grouped by partner.
-    fn defined(t: &ContactTable) -> Vec<Vec<u32>> {
+    /// The definition: every contact (owner, slot) grouped by partner, in owner and slot
+    /// order.
+    fn defined(t: &ContactTable) -> Vec<Vec<(usize, usize)>> {
         let n = t.pair_count.len();
         let mut expected = vec![vec![]; n];
-        let mut position = 0u32;
         for i in 0..n {
-            for c in t.pairs_of(i) {
-                expected[c.partner as usize].push(position);
-                position += 1;
+            for (s, c) in t.pairs_of(i).iter().enumerate() {
+                expected[c.partner as usize].push((i, s));
             }
         }
         expected
     }
 
+    /// The index lists the definition's contacts per partner, its positions are the owners'
+    /// starts plus the slot, and the starts lay the owners out one after another per chunk.
     fn assert_defined(index: &PartnerIndex, t: &ContactTable, what: &str) {
+        index
+            .check_layout(t)
+            .unwrap_or_else(|e| panic!("{what}: {e}"));
+        let start = index.owner_start();
         for (j, e) in defined(t).iter().enumerate() {
-            assert_eq!(index.of(j).collect::<Vec<_>>(), *e, "partner {j}, {what}");
+            let listed: Vec<(usize, usize)> = index.contacts_of_partner(j).collect();
+            assert_eq!(listed, *e, "partner {j}, {what}");
+            let positions: Vec<u32> = e.iter().map(|&(i, s)| start[i] + s as u32).collect();
+            assert_eq!(index.of(j).collect::<Vec<_>>(), positions, "{what}");
         }
-        let n = t.pair_count.len();
-        assert_eq!(
-            index.owner_start()[n] as usize,
-            t.pair_contact_count(),
-            "{what}"
-        );
     }
 
     #[test]
@@ -211,7 +334,8 @@ mod tests {
         let rows = [vec![2, 1], vec![2], vec![], vec![2]];
         let mut index = PartnerIndex::default();
         index.rebuild(&table(4, |i| rows[i].clone()));
-        assert_eq!(index.owner_start(), [0, 2, 3, 3, 4]);
+        // One chunk of 4 contacts, then its 4 / 8 + 8 spare places.
+        assert_eq!(index.owner_start(), [0, 2, 3, 3, 12]);
         let of: Vec<Vec<u32>> = (0..4).map(|j| index.of(j).collect()).collect();
         assert_eq!(of, [vec![], vec![1], vec![0, 2, 3], vec![]]);
         // Room 3 + 2 spare places for 4 monomers, their counts, 5 owner starts: 29 × 4 B.
@@ -242,6 +366,17 @@ mod tests {
         let mut t = table(n, scattered(n, 0));
         let mut index = PartnerIndex::default();
         index.rebuild(&t);
+        // Per result: the owner and partner of its contact, as a forces pass would leave it.
+        let laid_out = |index: &PartnerIndex, t: &ContactTable| {
+            let mut results = vec![(u32::MAX, u32::MAX); index.owner_start()[n] as usize];
+            for i in 0..n {
+                for (s, c) in t.pairs_of(i).iter().enumerate() {
+                    results[index.owner_start()[i] as usize + s] = (i as u32, c.partner);
+                }
+            }
+            results
+        };
+        let (mut results, mut moved_rounds) = (laid_out(&index, &t), 0);
         for round in 1..40 {
             // Some rows lose a contact, gain one, or both (by ascending owner).
             let owners: Vec<usize> = (0..n).filter(|i| (i * 31 + round * 17) % 97 == 0).collect();
@@ -261,12 +396,29 @@ mod tests {
                     partners_before: before,
                 });
             }
-            if !index.update(&t, &changes) {
+            if index.update_moving(&t, &changes, Some(&mut results)) {
+                // The unchanged rows' results moved with them; the changed ones are evaluated.
+                for &i in &owners {
+                    for (s, c) in t.pairs_of(i).iter().enumerate() {
+                        results[index.owner_start()[i] as usize + s] = (i as u32, c.partner);
+                    }
+                }
+                let start = index.owner_start();
+                for i in 0..n {
+                    let at = start[i] as usize;
+                    let live = &results[at..at + t.pair_count[i] as usize];
+                    let expected = &laid_out(&index, &t)[at..at + live.len()];
+                    assert!(live == expected, "round {round}, owner {i}: {live:?}");
+                }
+                moved_rounds += 1;
+            } else {
                 // Outgrown: the caller rebuilds.
                 index.rebuild(&t);
+                results = laid_out(&index, &t);
             }
             assert_defined(&index, &t, &format!("round {round}"));
         }
+        assert!(moved_rounds > 20, "{moved_rounds} rounds moved results");
     }
 
     #[test]
@@ -286,77 +438,5 @@ mod tests {
         assert!(!index.update(&t, &changes), "5 entries in a room of 3");
         index.rebuild(&t);
         assert_defined(&index, &t, "rebuilt after outgrowing");
-    }
-}
-
-#[cfg(test)]
-mod event_tests {
-    use super::PartnerIndex;
-    use crate::backend::cpu::CpuEngine;
-    use crate::backend::script::Kernel;
-    use crate::material::Material;
-    use crate::model::{ContactLaw, ModelOptions};
-    use crate::state::Monomers;
-    use glam::DVec3;
-
-    fn law() -> ContactLaw {
-        ContactLaw::new(&Material::silicate(), &ModelOptions::default())
-    }
-
-    /// Moves the monomers by hand, makes the index current again (as the forces pass does
-    /// after a change from outside), and takes one step: its contact events go through
-    /// `update`. Then the index must be what a rebuild gives.
-    fn step_after_moving(e: &mut CpuEngine, moved: &[(usize, DVec3)]) {
-        for &(i, x) in moved {
-            e.monomers.position[i] = x;
-        }
-        e.run_pass(Kernel::Forces).unwrap();
-        assert!(e.workspace.partner_index_current);
-        e.run(1).unwrap();
-        let mut fresh = PartnerIndex::default();
-        fresh.rebuild(&e.contacts);
-        assert_eq!(e.workspace.incoming.owner_start(), fresh.owner_start());
-        for j in 0..e.monomers.len() {
-            let kept: Vec<u32> = e.workspace.incoming.of(j).collect();
-            assert_eq!(kept, fresh.of(j).collect::<Vec<u32>>(), "partner {j}");
-        }
-    }
-
-    #[test]
-    fn a_row_that_loses_one_contact_and_gains_another_in_one_step_is_followed() {
-        // 0–1 in contact from the start; then 1 pulled away and 2 pushed onto 0: the same
-        // count of contacts in 0's row, another partner.
-        let r = law().radius;
-        let m = Monomers::new(vec![
-            DVec3::ZERO,
-            DVec3::new(1.99 * r, 0.0, 0.0),
-            DVec3::new(0.0, 2.1 * r, 0.0),
-        ]);
-        let mut e = CpuEngine::new(law(), 1e-10, m, vec![], 12, 3).unwrap();
-        assert_eq!(e.contacts.pair_count[0], 1);
-        step_after_moving(
-            &mut e,
-            &[
-                (1, DVec3::new(2.15 * r, 0.0, 0.0)),
-                (2, DVec3::new(0.0, 1.99 * r, 0.0)),
-            ],
-        );
-        let partners: Vec<u32> = e.contacts.pairs_of(0).iter().map(|c| c.partner).collect();
-        assert_eq!(partners, [2], "the events swapped the partner");
-    }
-
-    #[test]
-    fn contacts_outgrowing_a_monomers_room_in_one_step_rebuild_the_index() {
-        // Five monomers around monomer 5, none touching at the start (room 0 + 2), all
-        // pushed onto it at once.
-        let r = law().radius;
-        let around = [DVec3::X, -DVec3::X, DVec3::Y, -DVec3::Y, DVec3::Z];
-        let mut x: Vec<DVec3> = around.iter().map(|d| *d * 2.1 * r).collect();
-        x.push(DVec3::ZERO);
-        let mut e = CpuEngine::new(law(), 1e-10, Monomers::new(x), vec![], 12, 3).unwrap();
-        assert_eq!(e.contacts.pair_contact_count(), 0);
-        let pushed: Vec<(usize, DVec3)> = (0..5).map(|i| (i, around[i] * 1.99 * r)).collect();
-        step_after_moving(&mut e, &pushed);
-        assert_eq!(e.contacts.pair_contact_count(), 5);
     }
 }

@@ -177,6 +177,7 @@ pub fn wall_forces(
     let ws = table.wall_slots;
     let ws_ref = &*workspace;
     let (wall_rows, wall_counts) = (&mut table.wall, &table.wall_count);
+    let pair_counts = &table.pair_count;
     let m = Moving::of(monomers);
     let chunk_work: Vec<f64> = (
         m.velocity.par_chunks_mut(CHUNK),
@@ -201,7 +202,7 @@ pub fn wall_forces(
                 let mut work = 0.0;
                 for k in 0..force.len() {
                     let i = first + k;
-                    let (f, fd, t) = gather(i, ws_ref, ws, counts[k]);
+                    let (f, fd, t) = gather(i, ws_ref, pair_counts[i], ws, counts[k]);
                     work += 0.5 * (damping[k] + fd).dot(velocity[k] * dt);
                     force[k] = f;
                     damping[k] = fd;
@@ -264,11 +265,13 @@ impl<'a> Moving<'a> {
     }
 }
 
-/// Monomer `i`'s force, damping force and torque from the per-contact results.
-/// (`wall_slots` per monomer, `wall_count` of them `i`'s).
+/// Monomer `i`'s force, damping force and torque from the per-contact results (`pair_count`
+/// of them its own) and the wall results (`wall_slots` per monomer, `wall_count` of them
+/// `i`'s).
 fn gather(
     i: usize,
     workspace: &Workspace,
+    pair_count: u32,
     wall_slots: usize,
     wall_count: u32,
 ) -> (DVec3, DVec3, DVec3) {
@@ -282,7 +285,8 @@ fn gather(
         fd -= r.damping;
         t += r.torque_partner;
     }
-    for r in &results[owner_start[i] as usize..owner_start[i + 1] as usize] {
+    let own = owner_start[i] as usize;
+    for r in &results[own..own + pair_count as usize] {
         f += r.force;
         fd += r.damping;
         t += r.torque_owner;

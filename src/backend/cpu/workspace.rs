@@ -74,6 +74,12 @@ pub struct Workspace {
     /// Whether `incoming` describes the table as it is: the contacts pass clears it when a
     /// contact forms or breaks (the only changes that move slots).
     pub partner_index_current: bool,
+    /// Whether `pair_result` holds the forces the step's pairs pass evaluated
+    /// (`integrate_pairs_step`), moved by the contacts pass with the rows its events left
+    /// alone; the step's `forces` then evaluates only `changed_rows`.
+    pub results_of_step: bool,
+    /// The owners whose pair rows this step's contact events changed, ascending.
+    pub changed_rows: Vec<u32>,
     /// Per wall-contact slot (`i * wall_slots + s`): what the contact exerts.
     pub wall_result: Vec<WallResult>,
     /// Per monomer: the tests of its pair contacts (`PAIR_TEST_*` bits of `backend::script`),
