@@ -7,7 +7,7 @@
 use dustdem::backend::cpu::corrections_lanes::{chunk_corrections, Noted};
 use dustdem::backend::cpu::forces::PairResult;
 use dustdem::backend::cpu::forces_lanes::{
-    chunk_forces, jkr_contact_radius_ratio_lanes, ContactLanes, OwnerChunk,
+    chunk_forces, jkr_contact_radius_ratio_lanes, ContactLanes, OwnerChunk, ResultPlaces,
 };
 use dustdem::backend::cpu::integrate_lanes::{chunk_pairs, PairChunk, StepForm};
 #[cfg(target_arch = "x86_64")]
@@ -110,7 +110,7 @@ fn evaluate(
         first: 0,
         prefetching: Prefetching::RowsAndPartners,
     };
-    chunk_forces(lanes, law, m, chunk, &mut results);
+    chunk_forces(lanes, law, m, chunk, one_after_another(&mut results));
     results
 }
 
@@ -396,12 +396,21 @@ fn advanced_and_corrected(
     let mut results = vec![PairResult::default(); rows_len(counts)];
     let step = StepForm {
         noted: &mut noted,
-        results: Some(&mut results),
+        results: Some(one_after_another(&mut results)),
     };
     chunk_pairs(lanes, law, DT, m, chunk, &mut tests, Some(step));
     let mut tally = Dissipation::default();
     noted.book(lanes, law, DT, m, &mut tally);
     (row_bits(&rows), tests, tally, results)
+}
+
+/// Results owner after owner, slot after slot.
+fn one_after_another(results: &mut [PairResult]) -> ResultPlaces<'_> {
+    ResultPlaces {
+        results,
+        starts: None,
+        base: 0,
+    }
 }
 
 fn rows_len(counts: &[u32]) -> usize {
@@ -460,7 +469,8 @@ fn advanced_then_corrected(
         first: 0,
         prefetching: Prefetching::Off,
     };
-    chunk_forces(ContactLanes::Scalar, law, &drifted, chunk, &mut results);
+    let places = one_after_another(&mut results);
+    chunk_forces(ContactLanes::Scalar, law, &drifted, chunk, places);
     (row_bits(&rows), tally, results)
 }
 

@@ -174,9 +174,7 @@ impl CpuEngine {
         w.work = work;
         let changed = changed?;
         if !changed.is_empty() && w.partner_index_current {
-            // The pairs pass's forces move with the rows the events left alone.
-            let results = w.results_of_step.then_some(&mut w.pair_result[..]);
-            w.partner_index_current = w.incoming.update_moving(&s.contacts, &changed, results);
+            w.partner_index_current = w.incoming.update(&s.contacts, &changed);
         }
         if w.results_of_step {
             w.changed_rows.extend(changed.iter().map(|c| c.owner));

@@ -12,9 +12,9 @@
 //! thread adding contact by contact would sum them. So the forces do not depend on the thread
 //! count and equal the device's bits.
 
-use super::forces_lanes::{chunk_forces, scalar_result, ContactLanes, OwnerChunk};
+use super::forces_lanes::{chunk_forces, scalar_result, ContactLanes, OwnerChunk, ResultPlaces};
 use super::prefetch::for_contact_passes;
-use super::workspace::{chunk_offsets, split_at_offsets, split_len, Workspace, CHUNK};
+use super::workspace::{split_at_offsets, split_len, Workspace, CHUNK};
 use crate::backend::script::{OWNER_CORRECTIONS, OWNER_INDEX};
 use crate::model::{rolling, sliding, twisting, ContactLaw};
 use crate::state::interaction::{pair_frame, pair_tangential_step_energy, PairFrame};
@@ -123,13 +123,15 @@ pub fn forces(
     }
     let slots = table.pair_slots;
     let n = monomers.len();
-    let owner_start = workspace.incoming.owner_start();
+    let index = &workspace.incoming;
+    let (owner_start, bases) = (index.owner_start(), index.chunk_bases());
     debug_assert_eq!(owner_start.len(), n + 1, "partner index out of date");
     workspace
         .pair_result
         .resize(owner_start[n] as usize, PairResult::default());
-    // Each chunk of owners writes its own contiguous stretch of results.
-    let stretches = split_at_offsets(&mut workspace.pair_result, chunk_offsets(owner_start));
+    // Each chunk of owners writes its own stretch of results.
+    let offsets = bases.iter().map(|&b| b as usize);
+    let stretches = split_at_offsets(&mut workspace.pair_result, offsets);
     let prefetching = for_contact_passes(table);
     let lanes = ContactLanes::chosen();
     let counts = &table.pair_count;
@@ -148,7 +150,12 @@ pub fn forces(
                 first,
                 prefetching,
             };
-            chunk_forces(lanes, law, monomers, owners, results);
+            let places = ResultPlaces {
+                results,
+                starts: Some(&owner_start[first..(first + CHUNK).min(n)]),
+                base: bases[chunk],
+            };
+            chunk_forces(lanes, law, monomers, owners, places);
         });
 }
 

@@ -129,13 +129,13 @@ impl<R: std::ops::Deref<Target = [PairContact]>> OwnerChunk<'_, R> {
 /// The force pass's chunk: it reads the rows.
 pub type ForceChunk<'a> = OwnerChunk<'a, &'a [PairContact]>;
 
-/// The contacts of one chunk of owners into `results`, in owner and slot order, `lanes` wide.
+/// The contacts of one chunk of owners into their places in `results`, `lanes` wide.
 pub fn chunk_forces(
     lanes: ContactLanes,
     law: &ContactLaw,
     m: &Monomers,
     chunk: ForceChunk,
-    results: &mut [PairResult],
+    results: ResultPlaces,
 ) {
     match lanes {
         ContactLanes::Scalar => chunk_scalar(law, m, chunk, results),
@@ -152,12 +152,35 @@ pub fn chunk_forces(
 }
 
 /// One contact at a time: the reference the lanes are held to.
-fn chunk_scalar(law: &ContactLaw, m: &Monomers, chunk: ForceChunk, results: &mut [PairResult]) {
-    let mut out = results.iter_mut();
+fn chunk_scalar(law: &ContactLaw, m: &Monomers, chunk: ForceChunk, results: ResultPlaces) {
+    let mut next = 0;
     for k in 0..chunk.counts.len() {
         chunk.prefetch_ahead(m, k, false);
-        for c in &chunk.rows[chunk.contacts_of(k)] {
-            *out.next().expect("a result per contact") = scalar_result(law, m, chunk.first + k, c);
+        let at = results.owner(k, next);
+        for (local, c) in chunk.rows[chunk.contacts_of(k)].iter().enumerate() {
+            results.results[at + local] = scalar_result(law, m, chunk.first + k, c);
+            next += 1;
+        }
+    }
+}
+
+/// Where a chunk's per-contact results go: its stretch of them, and owner `k`'s first place
+/// in it, `starts[k] - base` (the partner index's places); without `starts`, the owners'
+/// results one after another.
+pub struct ResultPlaces<'a> {
+    pub results: &'a mut [PairResult],
+    pub starts: Option<&'a [u32]>,
+    pub base: u32,
+}
+
+impl ResultPlaces<'_> {
+    /// The first place of owner `k` of the chunk, `next` being the place after the owners
+    /// before it where they follow one another.
+    #[inline(always)]
+    pub fn owner(&self, k: usize, next: usize) -> usize {
+        match self.starts {
+            Some(starts) => (starts[k] - self.base) as usize,
+            None => next,
         }
     }
 }
@@ -192,12 +215,7 @@ pub(super) fn result_at(
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn chunk_avx2(
-    law: &ContactLaw,
-    m: &Monomers,
-    chunk: ForceChunk,
-    results: &mut [PairResult],
-) {
+unsafe fn chunk_avx2(law: &ContactLaw, m: &Monomers, chunk: ForceChunk, results: ResultPlaces) {
     chunk_in_lanes::<Avx2>(law, m, chunk, results)
 }
 
@@ -207,29 +225,30 @@ fn chunk_in_lanes<S: Isa>(
     law: &ContactLaw,
     m: &Monomers,
     chunk: ForceChunk,
-    results: &mut [PairResult],
+    results: ResultPlaces,
 ) {
     let rows = chunk.rows;
     let mut owner = [0usize; 4];
     let mut slot = [0usize; 4];
-    let mut filled = 0;
-    let mut written = 0;
+    let mut place = [0usize; 4];
+    let (mut filled, mut next) = (0, 0);
     for k in 0..chunk.counts.len() {
         chunk.prefetch_ahead(m, k, false);
-        for s in chunk.contacts_of(k) {
+        let at = results.owner(k, next);
+        for (local, s) in chunk.contacts_of(k).enumerate() {
             owner[filled] = chunk.first + k;
             slot[filled] = s;
+            place[filled] = at + local;
             filled += 1;
+            next += 1;
             if filled == 4 {
-                let batch = &mut results[written..written + 4];
-                four_results::<S>(law, m, rows, &owner, &slot, batch);
-                written += 4;
+                four_results::<S>(law, m, rows, &owner, &slot, (results.results, &place));
                 filled = 0;
             }
         }
     }
     for l in 0..filled {
-        results[written + l] = scalar_result(law, m, owner[l], &rows[slot[l]]);
+        results.results[place[l]] = scalar_result(law, m, owner[l], &rows[slot[l]]);
     }
 }
 
@@ -240,7 +259,7 @@ fn four_results<S: Isa>(
     rows: &[PairContact],
     owner: &[usize; 4],
     slot: &[usize; 4],
-    out: &mut [PairResult],
+    out: (&mut [PairResult], &[usize; 4]),
 ) {
     let (p, v) = (&m.position, &m.velocity);
     let c = [
@@ -258,14 +277,14 @@ fn four_results<S: Isa>(
 }
 
 /// What four contacts `c` exert with their monomers at `x` and moving at `v` (owners,
-/// partners), into `out`.
+/// partners), each into its place (`out`: the results and the four places).
 #[inline(always)]
 pub(super) fn results_of_four<S: Isa>(
     law: &ContactLaw,
     [x1, x2]: [V4<S>; 2],
     [v1, v2]: [V4<S>; 2],
     c: [&PairContact; 4],
-    out: &mut [PairResult],
+    (out, place): (&mut [PairResult], &[usize; 4]),
 ) {
     let n1 = V4::<S>::gather(|l| c[l].n1);
     let n2 = V4::<S>::gather(|l| c[l].n2);
@@ -273,8 +292,8 @@ pub(super) fn results_of_four<S: Isa>(
     let g = pair_geometry_lanes(law, x1, x2, v1, v2);
     let (force, damping, torque_owner, torque_partner) =
         pair_interaction_at_lanes(law, &g, n1, n2, twist);
-    for (l, out) in out.iter_mut().enumerate() {
-        *out = PairResult {
+    for (l, &p) in place.iter().enumerate() {
+        out[p] = PairResult {
             force: force.lane(l),
             damping: damping.lane(l),
             torque_owner: torque_owner.lane(l),

@@ -7,13 +7,11 @@
 
 use super::corrections_lanes::Noted;
 use super::forces::PairResult;
-use super::forces_lanes::ContactLanes;
+use super::forces_lanes::{ContactLanes, ResultPlaces};
 use super::integrate_lanes::{chunk_pairs, PairChunk, StepForm};
 use super::neighbours::NeighbourList;
 use super::prefetch::for_contact_passes;
-use super::workspace::{
-    chunk_offsets, split_at_offsets, split_len, sum_in_order, Workspace, CHUNK,
-};
+use super::workspace::{split_at_offsets, split_len, sum_in_order, Workspace, CHUNK};
 use crate::backend::script::{PAIR_TEST_BEYOND, PAIR_TEST_BREAKS};
 use crate::model::pointer::rotate_pointer;
 use crate::model::twisting::twist_increment;
@@ -146,21 +144,24 @@ pub fn integrate_pairs_step(
         workspace.incoming.rebuild(table);
         workspace.partner_index_current = true;
     }
-    let owner_start = workspace.incoming.owner_start();
+    let index = &workspace.incoming;
+    let (owner_start, bases) = (index.owner_start(), index.chunk_bases());
+    let n = monomers.len();
     let results = &mut workspace.pair_result;
-    results.resize(owner_start[monomers.len()] as usize, PairResult::default());
-    let stretches = split_at_offsets(results, chunk_offsets(owner_start));
+    results.resize(owner_start[n] as usize, PairResult::default());
+    let stretches = split_at_offsets(results, bases.iter().map(|&b| b as usize));
+    let places = stretches
+        .into_iter()
+        .enumerate()
+        .map(|(chunk, results)| ResultPlaces {
+            results,
+            starts: Some(&owner_start[chunk * CHUNK..((chunk + 1) * CHUNK).min(n)]),
+            base: bases[chunk],
+        })
+        .collect();
     let books = tally.books_pair_corrections();
     let tests = &mut workspace.pair_tests;
-    let sums = pairs_pass(
-        law,
-        dt,
-        monomers,
-        table,
-        tests,
-        Some(books),
-        Some(stretches),
-    );
+    let sums = pairs_pass(law, dt, monomers, table, tests, Some(books), Some(places));
     tally.add(&sum_in_order(&sums));
     workspace.results_of_step = true;
     workspace.changed_rows.clear();
@@ -168,7 +169,7 @@ pub fn integrate_pairs_step(
 
 /// Every form of the pairs pass, parallel over chunks of owners; with `correcting` (whether
 /// the corrections are booked), each chunk's corrections and what they dissipated, one sum
-/// per chunk in order, and with `results` (a stretch per chunk) the contacts' forces.
+/// per chunk in order, and with `results` (each chunk's places) the contacts' forces.
 fn pairs_pass(
     law: &ContactLaw,
     dt: f64,
@@ -176,13 +177,13 @@ fn pairs_pass(
     table: &mut ContactTable,
     pair_tests: &mut [u32],
     correcting: Option<bool>,
-    results: Option<Vec<&mut [PairResult]>>,
+    results: Option<Vec<ResultPlaces>>,
 ) -> Vec<Dissipation> {
     let slots = table.pair_slots;
     let prefetching = for_contact_passes(table);
     let lanes = ContactLanes::chosen();
     let chunks = monomers.len().div_ceil(CHUNK);
-    let stretches: Vec<Option<&mut [PairResult]>> = match results {
+    let stretches: Vec<Option<ResultPlaces>> = match results {
         Some(r) => r.into_iter().map(Some).collect(),
         None => (0..chunks).map(|_| None).collect(),
     };

@@ -15,7 +15,7 @@
 
 use super::corrections_lanes::{Found, Noted};
 use super::forces::PairResult;
-use super::forces_lanes::{result_at, results_of_four, ContactLanes, OwnerChunk};
+use super::forces_lanes::{result_at, results_of_four, ContactLanes, OwnerChunk, ResultPlaces};
 use super::integrate::integrate_pair_contact;
 #[cfg(target_arch = "x86_64")]
 use super::lanes::Avx2;
@@ -31,11 +31,26 @@ pub type PairChunk<'a> = OwnerChunk<'a, &'a mut [PairContact]>;
 
 /// What the step's form of the pass does besides advancing and testing: the corrections
 /// (their states noted for the booking) and, where `results` is given, each contact's
-/// force at the step's new positions into it, in owner and slot order (the chunk's stretch of
-/// the per-contact results `forces` would fill after the events).
+/// force at the step's new positions into its place (where `forces` would put it after the
+/// events).
 pub struct StepForm<'a> {
     pub noted: &'a mut Noted,
-    pub results: Option<&'a mut [PairResult]>,
+    pub results: Option<ResultPlaces<'a>>,
+}
+
+impl StepForm<'_> {
+    /// Owner `k`'s first place (see [`ResultPlaces::owner`]).
+    #[inline(always)]
+    fn owner(&self, k: usize, next: usize) -> usize {
+        self.results.as_ref().map_or(0, |r| r.owner(k, next))
+    }
+
+    #[inline(always)]
+    fn put(&mut self, place: usize, result: PairResult) {
+        if let Some(r) = self.results.as_mut() {
+            r.results[place] = result;
+        }
+    }
 }
 
 /// The chunk's pair contacts advanced and tested, `lanes` wide; `tests[k]` gets owner k's
@@ -65,19 +80,27 @@ pub fn chunk_pairs(
     }
 }
 
-/// The optional parts of a [`StepForm`], reborrowed for one batch.
-fn parts<'s>(
-    step: &'s mut Option<StepForm>,
-    written: usize,
-    len: usize,
-) -> (Option<&'s mut Noted>, Option<&'s mut [PairResult]>) {
+/// The step form's notes and whether it evaluates the forces.
+fn parts<'s>(step: &'s mut Option<StepForm>) -> (Option<&'s mut Noted>, bool) {
+    match step {
+        None => (None, false),
+        Some(form) => (Some(&mut *form.noted), form.results.is_some()),
+    }
+}
+
+/// Four contacts' part of the step form: its notes and, where it evaluates the forces, the
+/// results with the contacts' four places.
+type FourForm<'s> = (
+    Option<&'s mut Noted>,
+    Option<(&'s mut [PairResult], &'s [usize; 4])>,
+);
+
+fn parts_of_four<'s>(step: &'s mut Option<StepForm>, place: &'s [usize; 4]) -> FourForm<'s> {
     match step {
         None => (None, None),
-        Some(StepForm { noted, results }) => (
-            Some(&mut **noted),
-            results
-                .as_deref_mut()
-                .map(|r| &mut r[written..written + len]),
+        Some(form) => (
+            Some(&mut *form.noted),
+            form.results.as_mut().map(|r| (&mut *r.results, place)),
         ),
     }
 }
@@ -90,40 +113,45 @@ fn chunk_scalar(
     tests: &mut [u32],
     mut step: Option<StepForm>,
 ) {
-    let mut written = 0;
+    let mut next = 0;
     for (k, test) in tests.iter_mut().enumerate() {
         chunk.prefetch_ahead(m, k, true);
+        let at = step.as_ref().map_or(0, |f| f.owner(k, next));
         let mut bits = 0;
-        for s in chunk.contacts_of(k) {
+        for (local, s) in chunk.contacts_of(k).enumerate() {
             let (i, c) = (chunk.first + k, &mut chunk.rows[s]);
-            bits |= one_contact(law, dt, m, i, c, parts(&mut step, written, 1));
-            written += 1;
+            let (tests, force) = one_contact(law, dt, m, i, c, parts(&mut step));
+            bits |= tests;
+            if let (Some(form), Some(force)) = (step.as_mut(), force) {
+                form.put(at + local, force);
+            }
+            next += 1;
         }
         *test = bits;
     }
 }
 
-/// One contact of owner `i` advanced and tested the scalar way, corrected where `noted` and
-/// its force put in `out` where given; its tests.
+/// One contact of owner `i` advanced and tested the scalar way, corrected where `noted`;
+/// its tests, and its force where `evaluated`.
 fn one_contact(
     law: &ContactLaw,
     dt: f64,
     m: &Monomers,
     i: usize,
     c: &mut PairContact,
-    (noted, out): (Option<&mut Noted>, Option<&mut [PairResult]>),
-) -> u32 {
+    (noted, evaluated): (Option<&mut Noted>, bool),
+) -> (u32, Option<PairResult>) {
     let tested = integrate_pair_contact(law, dt, m, i, c);
     let bits = match noted {
         Some(noted) => correct_one(law, dt, m, i, c, tested, noted),
         None => tested,
     };
-    if let Some(out) = out {
+    let force = evaluated.then(|| {
         let (p, v, j) = (&m.position, &m.velocity, c.partner as usize);
         let x = [p[i] + v[i] * dt, p[j] + v[j] * dt];
-        out[0] = result_at(law, x, [v[i], v[j]], c);
-    }
-    bits
+        result_at(law, x, [v[i], v[j]], c)
+    });
+    (bits, force)
 }
 
 /// Whether a contact's tests ask for its corrections now: beyond a limit, not breaking (a
@@ -182,15 +210,18 @@ fn chunk_in_lanes<S: Isa>(
 ) {
     let mut owner = [0usize; 4];
     let mut slot = [0usize; 4];
-    let mut filled = 0;
-    let mut written = 0;
+    let mut place = [0usize; 4];
+    let (mut filled, mut next) = (0, 0);
     for k in 0..tests.len() {
         chunk.prefetch_ahead(m, k, true);
         tests[k] = 0;
-        for s in chunk.contacts_of(k) {
+        let at = step.as_ref().map_or(0, |f| f.owner(k, next));
+        for (local, s) in chunk.contacts_of(k).enumerate() {
             owner[filled] = k;
             slot[filled] = s;
+            place[filled] = at + local;
             filled += 1;
+            next += 1;
             if filled == 4 {
                 let at = Four {
                     rows: &mut *chunk.rows,
@@ -198,19 +229,21 @@ fn chunk_in_lanes<S: Isa>(
                     owner: &owner,
                     slot: &slot,
                 };
-                let bits = four_pairs::<S>(law, dt, m, at, parts(&mut step, written, 4));
+                let bits = four_pairs::<S>(law, dt, m, at, parts_of_four(&mut step, &place));
                 for l in 0..4 {
                     tests[owner[l]] |= bits[l];
                 }
-                written += 4;
                 filled = 0;
             }
         }
     }
     for l in 0..filled {
         let (i, c) = (chunk.first + owner[l], &mut chunk.rows[slot[l]]);
-        let form = parts(&mut step, written + l, 1);
-        tests[owner[l]] |= one_contact(law, dt, m, i, c, form);
+        let (bits, force) = one_contact(law, dt, m, i, c, parts(&mut step));
+        tests[owner[l]] |= bits;
+        if let (Some(form), Some(force)) = (step.as_mut(), force) {
+            form.put(place[l], force);
+        }
     }
 }
 
@@ -222,15 +255,15 @@ struct Four<'a> {
     slot: &'a [usize; 4],
 }
 
-/// Four contacts advanced in place, corrected where `noted` and their tests ask for it, and
-/// their forces put in `out` where given; their tests.
+/// Four contacts advanced in place, corrected where `noted` and their tests ask for it; their
+/// tests, and their forces where `evaluated`.
 #[inline(always)]
 fn four_pairs<S: Isa>(
     law: &ContactLaw,
     dt: f64,
     m: &Monomers,
     four: Four,
-    (noted, out): (Option<&mut Noted>, Option<&mut [PairResult]>),
+    (noted, out): FourForm,
 ) -> [u32; 4] {
     let Four {
         rows,
@@ -279,8 +312,14 @@ fn four_pairs<S: Isa>(
         slot,
     };
     correct_four(law, at, [x1, x2, v1, v2], [n1, n2, nc], bits, noted);
+    // Not in a closure: one would be compiled apart from the lanes' AVX2 code.
     if let Some(out) = out {
-        let c = slot.map(|s| &rows[s]);
+        let c = [
+            &rows[slot[0]],
+            &rows[slot[1]],
+            &rows[slot[2]],
+            &rows[slot[3]],
+        ];
         results_of_four(law, [x1, x2], [v1, v2], c, out);
     }
     // The scan lists no owner for corrections after these (see `correct_one`).

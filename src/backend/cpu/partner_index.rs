@@ -4,16 +4,17 @@
 //! Each monomer keeps the contacts it is the partner of as entries `owner << slot_bits | slot`,
 //! ascending (owner and slot order, the gather's order), in `room` places of its own; a
 //! result's position is `owner_start[owner] + slot`. The owners of one chunk of [`CHUNK`]
-//! (the passes' unit of parallel work) have their contacts one after another in the chunk's
-//! stretch, which keeps some spare places at its end ([`spare_results`]). So a contact event
-//! touches only the entries of the partners of the rows it changed ([`PartnerIndex::update`])
-//! and the starts of the owners after it in its own chunk, and the results of the chunk's
-//! other owners can move with them ([`PartnerIndex::update_moving`]) instead of being
-//! evaluated again. Under compression nearly every step has events but few rows change (23 of
-//! 10⁴ rows per step at φ 0.45): the full rebuild after each such step had been 7 % of a
-//! one-thread step's instructions (DESIGN.md, "CPU engine: the partner index"). The full
-//! rebuild remains for a new or replaced table, for a monomer whose entries outgrow their
-//! room, and for a chunk whose contacts outgrow its stretch.
+//! (the passes' unit of parallel work) hold places in the chunk's own stretch of results,
+//! which keeps some spare places at its end ([`spare_results`]): a rebuild lays them out one
+//! after another, and a row that contact events made longer takes new places from the spare
+//! ones. So an event touches only the entries of the partners of the rows it changed and
+//! those rows' places ([`PartnerIndex::update`]); every other owner's results stay where they
+//! are, and the CPU step keeps them from its pairs pass (DESIGN.md, "The CPU engine: the forces
+//! where the pointers are"). Under compression nearly every step has events but few rows
+//! change (23 of 10⁴ rows per step at φ 0.45): the full rebuild after each such step had been
+//! 7 % of a one-thread step's instructions (DESIGN.md, "CPU engine: the partner index"). The
+//! full rebuild remains for a new or replaced table, for a monomer whose entries outgrow their
+//! room, and for a chunk whose spare places are used up.
 
 use super::workspace::CHUNK;
 use crate::state::ContactTable;
@@ -21,36 +22,6 @@ use crate::state::ContactTable;
 /// Spare places per monomer beyond the most entries any monomer had at the full rebuild, so
 /// that a contact forming does not force another rebuild at once.
 const SPARE_ROOM: usize = 2;
-
-/// Moves the results of the owners of one chunk from their `old` starts to their new `start`s
-/// (from its first changed owner on, `counts` theirs), all but the `changed` ones (ascending,
-/// their rows to be evaluated again), in place: each run of unchanged owners moves as one
-/// block by one shift, those moving down first in order, then those moving up in reverse
-/// order, so that no block lands on one not moved yet.
-fn move_unchanged<T: Copy>(
-    results: &mut [T],
-    old: &[u32],
-    start: &[u32],
-    counts: &[u32],
-    changed: impl Iterator<Item = usize>,
-) {
-    let mut blocks = Vec::new();
-    let mut run_from = 0;
-    for k in changed.chain(std::iter::once(old.len())) {
-        if k > run_from {
-            let (first, last) = (run_from, k - 1);
-            let len = (old[last] + counts[last] - old[first]) as usize;
-            blocks.push((old[first] as usize, start[first] as usize, len));
-        }
-        run_from = k + 1;
-    }
-    for &(from, to, len) in blocks.iter().filter(|b| b.1 < b.0) {
-        results.copy_within(from..from + len, to);
-    }
-    for &(from, to, len) in blocks.iter().rev().filter(|b| b.1 > b.0) {
-        results.copy_within(from..from + len, to);
-    }
-}
 
 /// Spare places at the end of a chunk's stretch of results holding `contacts`: an eighth more,
 /// and at least 8, so that the contacts formed over many steps fit before a rebuild.
@@ -76,15 +47,25 @@ pub struct PartnerIndex {
     /// Monomer `j`'s entries are `entries[j * room..j * room + count[j]]`, ascending.
     entries: Vec<u32>,
     count: Vec<u32>,
+    /// Where each chunk's stretch of results begins (one more entry: the end of the last).
+    chunk_base: Vec<u32>,
+    /// Per chunk the first place of its stretch no owner holds: where a row that grew goes.
+    chunk_free: Vec<u32>,
 }
 
 impl PartnerIndex {
     /// Heap bytes of the index's arrays.
     pub fn heap_bytes(&self) -> u64 {
-        [&self.owner_start, &self.entries, &self.count]
-            .iter()
-            .map(|v| super::memory::bytes(v))
-            .sum()
+        [
+            &self.owner_start,
+            &self.entries,
+            &self.count,
+            &self.chunk_base,
+            &self.chunk_free,
+        ]
+        .iter()
+        .map(|v| super::memory::bytes(v))
+        .sum()
     }
 
     /// Rebuilds the index from the table: the entries counted per partner, the room set by
@@ -117,35 +98,30 @@ impl PartnerIndex {
         }
         self.owner_start.clear();
         self.owner_start.resize(n + 1, 0);
+        self.chunk_base.clear();
+        self.chunk_free.clear();
         let mut start = 0;
         for first in (0..n).step_by(CHUNK) {
+            self.chunk_base.push(start);
             let mut contacts = 0;
             for i in first..(first + CHUNK).min(n) {
                 self.owner_start[i] = start + contacts;
                 contacts += table.pair_count[i];
             }
+            self.chunk_free.push(start + contacts);
             start += contacts + spare_results(contacts);
         }
+        self.chunk_base.push(start);
         self.owner_start[n] = start;
     }
 
     /// Brings the index up to date after contact events changed the rows `changes` lists (by
     /// ascending owner, each with its partners before): the old rows' entries removed, the new
-    /// rows' inserted in order, the starts of the owners after each changed one in its chunk.
-    /// Returns false, the index then stale, where a monomer's entries outgrew their room or a
-    /// chunk's contacts its stretch: rebuild it.
+    /// rows' inserted in order, and a row that grew given new places at the free end of its
+    /// chunk's stretch (one that did not grow keeps its places). No other owner's results
+    /// move. Returns false, the index then stale, where a monomer's entries outgrew their room
+    /// or a chunk's stretch is used up: rebuild it.
     pub fn update(&mut self, table: &ContactTable, changes: &[RowChange]) -> bool {
-        self.update_moving::<()>(table, changes, None)
-    }
-
-    /// [`Self::update`], and the per-contact `results` of the owners whose rows did not change
-    /// moved to their new positions (the changed rows' results are left to evaluate).
-    pub fn update_moving<T: Copy>(
-        &mut self,
-        table: &ContactTable,
-        changes: &[RowChange],
-        mut results: Option<&mut [T]>,
-    ) -> bool {
         for change in changes {
             let i = change.owner as usize;
             for (s, &j) in change.partners_before.iter().enumerate() {
@@ -159,44 +135,15 @@ impl PartnerIndex {
                     return false;
                 }
             }
-        }
-        let mut rest = changes;
-        while let Some(first) = rest.first() {
-            let chunk = first.owner as usize / CHUNK;
-            let within = rest.partition_point(|c| c.owner as usize / CHUNK == chunk);
-            let (these, after) = rest.split_at(within);
-            if !self.restart_chunk(table, these, results.as_deref_mut()) {
-                return false;
+            let count = table.pair_count[i];
+            if count as usize > change.partners_before.len() {
+                let chunk = i / CHUNK;
+                if self.chunk_free[chunk] + count > self.chunk_base[chunk + 1] {
+                    return false;
+                }
+                self.owner_start[i] = self.chunk_free[chunk];
+                self.chunk_free[chunk] += count;
             }
-            rest = after;
-        }
-        true
-    }
-
-    /// The starts of the owners of one chunk from its first changed row (`changes`, all in
-    /// that chunk) on, the unchanged owners' `results` moved with them; false where the
-    /// chunk's contacts no longer fit its stretch.
-    fn restart_chunk<T: Copy>(
-        &mut self,
-        table: &ContactTable,
-        changes: &[RowChange],
-        results: Option<&mut [T]>,
-    ) -> bool {
-        let n = table.pair_count.len();
-        let from = changes[0].owner as usize;
-        let end = ((from / CHUNK + 1) * CHUNK).min(n);
-        let start = &mut self.owner_start;
-        let old: Vec<u32> = start[from..end].to_vec();
-        for i in from..end - 1 {
-            start[i + 1] = start[i] + table.pair_count[i];
-        }
-        if start[end - 1] + table.pair_count[end - 1] > start[end] {
-            return false;
-        }
-        if let Some(results) = results {
-            let changed = changes.iter().map(|c| c.owner as usize - from);
-            let counts = &table.pair_count[from..end];
-            move_unchanged(results, &old, &start[from..end], counts, changed);
         }
         true
     }
@@ -246,25 +193,46 @@ impl PartnerIndex {
             .map(move |&e| ((e >> self.slot_bits) as usize, (e & mask) as usize))
     }
 
-    /// Whether the owners' results are laid out as the gather needs for `table`: within each
-    /// chunk one after another, ascending, none overlapping the next or leaving the chunk's
-    /// stretch. Where not, says which owner is out of place.
+    /// Whether the owners' results are laid out as the gather needs for `table`: each owner's
+    /// places within its chunk's stretch and below the stretch's free end, no two owners'
+    /// overlapping. Where not, says which owner is out of place.
     pub fn check_layout(&self, table: &ContactTable) -> Result<(), String> {
         let n = table.pair_count.len();
-        if self.owner_start.len() != n + 1 {
+        let chunks = n.div_ceil(CHUNK);
+        if self.owner_start.len() != n + 1 || self.chunk_base.len() != chunks + 1 {
             return Err(format!("{} starts for {n} owners", self.owner_start.len()));
         }
-        for first in (0..n).step_by(CHUNK) {
-            let end = (first + CHUNK).min(n);
-            for i in first..end {
-                let limit = self.owner_start[i + 1];
-                let last = self.owner_start[i] + table.pair_count[i];
-                if last > limit || (i + 1 < end && last != limit) {
-                    return Err(format!("owner {i}: results end at {last}, next at {limit}"));
+        for chunk in 0..chunks {
+            let first = chunk * CHUNK;
+            let mut places: Vec<(u32, u32, usize)> = (first..(first + CHUNK).min(n))
+                .filter(|&i| table.pair_count[i] > 0)
+                .map(|i| {
+                    (
+                        self.owner_start[i],
+                        self.owner_start[i] + table.pair_count[i],
+                        i,
+                    )
+                })
+                .collect();
+            places.sort_unstable();
+            let mut free_from = self.chunk_base[chunk];
+            for (start, end, i) in places {
+                if start < free_from || end > self.chunk_free[chunk] {
+                    return Err(format!("owner {i}: places {start}..{end} overlap or leave"));
                 }
+                free_from = end;
             }
         }
-        Ok(())
+        let ends = (self.chunk_free.iter()).zip(&self.chunk_base[1..]);
+        match ends.enumerate().find(|(_, (free, end))| free > end) {
+            Some((chunk, _)) => Err(format!("chunk {chunk}: free end beyond its stretch")),
+            None => Ok(()),
+        }
+    }
+
+    /// Where each chunk's stretch of results begins, and where the last one ends.
+    pub fn chunk_bases(&self) -> &[u32] {
+        &self.chunk_base
     }
 
     /// Where owner `i`'s results begin (`n + 1` entries; the last is the length of the
@@ -376,7 +344,7 @@ mod tests {
             }
             results
         };
-        let (mut results, mut moved_rounds) = (laid_out(&index, &t), 0);
+        let (mut results, mut kept_rounds) = (laid_out(&index, &t), 0);
         for round in 1..40 {
             // Some rows lose a contact, gain one, or both (by ascending owner).
             let owners: Vec<usize> = (0..n).filter(|i| (i * 31 + round * 17) % 97 == 0).collect();
@@ -396,8 +364,10 @@ mod tests {
                     partners_before: before,
                 });
             }
-            if index.update_moving(&t, &changes, Some(&mut results)) {
-                // The unchanged rows' results moved with them; the changed ones are evaluated.
+            if index.update(&t, &changes) {
+                // The unchanged rows' results stay where they were; the changed ones are
+                // evaluated into their places.
+                results.resize(index.owner_start()[n] as usize, (u32::MAX, u32::MAX));
                 for &i in &owners {
                     for (s, c) in t.pairs_of(i).iter().enumerate() {
                         results[index.owner_start()[i] as usize + s] = (i as u32, c.partner);
@@ -407,10 +377,14 @@ mod tests {
                 for i in 0..n {
                     let at = start[i] as usize;
                     let live = &results[at..at + t.pair_count[i] as usize];
-                    let expected = &laid_out(&index, &t)[at..at + live.len()];
+                    let expected: Vec<(u32, u32)> = t
+                        .pairs_of(i)
+                        .iter()
+                        .map(|c| (i as u32, c.partner))
+                        .collect();
                     assert!(live == expected, "round {round}, owner {i}: {live:?}");
                 }
-                moved_rounds += 1;
+                kept_rounds += 1;
             } else {
                 // Outgrown: the caller rebuilds.
                 index.rebuild(&t);
@@ -418,7 +392,7 @@ mod tests {
             }
             assert_defined(&index, &t, &format!("round {round}"));
         }
-        assert!(moved_rounds > 20, "{moved_rounds} rounds moved results");
+        assert!(kept_rounds > 20, "{kept_rounds} rounds kept the results");
     }
 
     #[test]

@@ -46,16 +46,6 @@ pub fn split_at_offsets<T>(
     parts
 }
 
-/// The offsets of `starts` (per owner, `n + 1` entries) at every chunk of owners: where each
-/// chunk's stretch of a per-contact output begins, and where the last one ends.
-pub fn chunk_offsets(starts: &[u32]) -> impl Iterator<Item = usize> + '_ {
-    let n = starts.len() - 1;
-    (0..n)
-        .step_by(CHUNK)
-        .chain(std::iter::once(n))
-        .map(|owner| starts[owner] as usize)
-}
-
 /// Sums per-chunk tallies in chunk order.
 pub fn sum_in_order(chunks: &[Dissipation]) -> Dissipation {
     let mut total = Dissipation::default();
@@ -68,7 +58,7 @@ pub fn sum_in_order(chunks: &[Dissipation]) -> Dissipation {
 /// Everything the passes keep between steps besides the state.
 #[derive(Clone, Debug, Default)]
 pub struct Workspace {
-    /// One per pair contact, in owner and slot order.
+    /// One per pair contact, owner `i`'s slot `s` at `incoming.owner_start()[i] + s`.
     pub pair_result: Vec<PairResult>,
     pub incoming: PartnerIndex,
     /// Whether `incoming` describes the table as it is: the contacts pass clears it when a
@@ -113,18 +103,5 @@ mod tests {
         let parts = split_at_offsets(&mut items, [0, 2, 2, 5]);
         let parts: Vec<&[i32]> = parts.into_iter().map(|p| &*p).collect();
         assert_eq!(parts, [&[1, 2][..], &[], &[3, 4, 5]]);
-    }
-
-    #[test]
-    fn chunk_offsets_mark_every_chunk_of_owners_and_the_end() {
-        // Owner i has i % 3 contacts; the offsets are the running totals at 0, CHUNK, .., n.
-        let n = 2 * CHUNK + 7;
-        let mut starts = vec![0u32];
-        for i in 0..n {
-            starts.push(starts[i] + (i % 3) as u32);
-        }
-        let total = |owners: usize| (0..owners).map(|i| i % 3).sum::<usize>();
-        let offsets: Vec<usize> = chunk_offsets(&starts).collect();
-        assert_eq!(offsets, [0, total(CHUNK), total(2 * CHUNK), total(n)]);
     }
 }
