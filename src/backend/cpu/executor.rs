@@ -174,7 +174,8 @@ impl CpuEngine {
         w.work = work;
         let changed = changed?;
         if !changed.is_empty() && w.partner_index_current {
-            w.partner_index_current = w.incoming.update(&s.contacts, &changed);
+            let results = &mut w.pair_result;
+            w.partner_index_current = w.incoming.update(&s.contacts, &changed, results);
         }
         if w.results_of_step {
             w.changed_rows.extend(changed.iter().map(|c| c.owner));

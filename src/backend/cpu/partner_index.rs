@@ -119,32 +119,84 @@ impl PartnerIndex {
     /// ascending owner, each with its partners before): the old rows' entries removed, the new
     /// rows' inserted in order, and a row that grew given new places at the free end of its
     /// chunk's stretch (one that did not grow keeps its places). No other owner's results
-    /// move. Returns false, the index then stale, where a monomer's entries outgrew their room
-    /// or a chunk's stretch is used up: rebuild it.
-    pub fn update(&mut self, table: &ContactTable, changes: &[RowChange]) -> bool {
+    /// move, unless the chunk's spare places run out: the chunk is then laid out afresh, its
+    /// unchanged rows' `results` moved with their places ([`Self::compact_chunk`]). Returns
+    /// false, the index then stale, where a monomer's entries outgrew their room or a chunk's
+    /// contacts outgrew its stretch: rebuild it.
+    pub fn update<T: Copy>(
+        &mut self,
+        table: &ContactTable,
+        changes: &[RowChange],
+        results: &mut [T],
+    ) -> bool {
         for change in changes {
             let i = change.owner as usize;
             for (s, &j) in change.partners_before.iter().enumerate() {
                 self.remove(j as usize, self.entry(i, s));
             }
         }
-        for change in changes {
+        let mut compacted = None;
+        for (k, change) in changes.iter().enumerate() {
             let i = change.owner as usize;
             for (s, c) in table.pairs_of(i).iter().enumerate() {
                 if !self.insert(c.partner as usize, self.entry(i, s)) {
                     return false;
                 }
             }
-            let count = table.pair_count[i];
-            if count as usize > change.partners_before.len() {
-                let chunk = i / CHUNK;
-                if self.chunk_free[chunk] + count > self.chunk_base[chunk + 1] {
+            let (count, chunk) = (table.pair_count[i], i / CHUNK);
+            if count as usize <= change.partners_before.len() || compacted == Some(chunk) {
+                continue;
+            }
+            if self.chunk_free[chunk] + count > self.chunk_base[chunk + 1] {
+                // Every row of the chunk still to come is in `changes[k..]`.
+                if !self.compact_chunk(table, chunk, &changes[k..], results) {
                     return false;
                 }
-                self.owner_start[i] = self.chunk_free[chunk];
-                self.chunk_free[chunk] += count;
+                compacted = Some(chunk);
+                continue;
             }
+            self.owner_start[i] = self.chunk_free[chunk];
+            self.chunk_free[chunk] += count;
         }
+        true
+    }
+
+    /// Lays the owners of `chunk` out one after another again (the holes the rows that grew
+    /// left behind closed), the `results` of those not in `changes` moved to their new places;
+    /// false where its contacts do not fit its stretch.
+    fn compact_chunk<T: Copy>(
+        &mut self,
+        table: &ContactTable,
+        chunk: usize,
+        changes: &[RowChange],
+        results: &mut [T],
+    ) -> bool {
+        let n = table.pair_count.len();
+        let owners = chunk * CHUNK..((chunk + 1) * CHUNK).min(n);
+        let (base, end) = (self.chunk_base[chunk], self.chunk_base[chunk + 1]);
+        let total: u32 = table.pair_count[owners.clone()].iter().sum();
+        if base + total > end {
+            return false;
+        }
+        let moving = results.len() >= end as usize;
+        let before = if moving {
+            results[base as usize..end as usize].to_vec()
+        } else {
+            Vec::new()
+        };
+        let changed = |i: usize| changes.iter().any(|c| c.owner as usize == i);
+        let mut free = base;
+        for i in owners {
+            let (was, count) = (self.owner_start[i], table.pair_count[i]);
+            self.owner_start[i] = free;
+            if moving && !changed(i) {
+                let from = (was - base) as usize..(was - base + count) as usize;
+                let to = free as usize;
+                results[to..to + count as usize].copy_from_slice(&before[from]);
+            }
+            free += count;
+        }
+        self.chunk_free[chunk] = free;
         true
     }
 
@@ -243,174 +295,4 @@ impl PartnerIndex {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::state::PairContact;
-
-    const SLOTS: usize = 4;
-
-    /// A table of `n` monomers whose owner `i` has partners `partners(i)`.
-    fn table(n: usize, partners: impl Fn(usize) -> Vec<u32>) -> ContactTable {
-        let mut t = ContactTable::new(n, SLOTS, 1);
-        for i in 0..n {
-            set_row(&mut t, i, &partners(i));
-        }
-        t
-    }
-
-    fn set_row(t: &mut ContactTable, i: usize, partners: &[u32]) {
-        for (s, &j) in partners.iter().enumerate() {
-            t.pair[i * SLOTS + s] = PairContact {
-                partner: j,
-                ..t.pair[i * SLOTS + s]
-            };
-        }
-        t.pair_count[i] = partners.len() as u32;
-    }
-
-    /// The definition: every contact (owner, slot) grouped by partner, in owner and slot
-    /// order.
-    fn defined(t: &ContactTable) -> Vec<Vec<(usize, usize)>> {
-        let n = t.pair_count.len();
-        let mut expected = vec![vec![]; n];
-        for i in 0..n {
-            for (s, c) in t.pairs_of(i).iter().enumerate() {
-                expected[c.partner as usize].push((i, s));
-            }
-        }
-        expected
-    }
-
-    /// The index lists the definition's contacts per partner, its positions are the owners'
-    /// starts plus the slot, and the starts lay the owners out one after another per chunk.
-    fn assert_defined(index: &PartnerIndex, t: &ContactTable, what: &str) {
-        index
-            .check_layout(t)
-            .unwrap_or_else(|e| panic!("{what}: {e}"));
-        let start = index.owner_start();
-        for (j, e) in defined(t).iter().enumerate() {
-            let listed: Vec<(usize, usize)> = index.contacts_of_partner(j).collect();
-            assert_eq!(listed, *e, "partner {j}, {what}");
-            let positions: Vec<u32> = e.iter().map(|&(i, s)| start[i] + s as u32).collect();
-            assert_eq!(index.of(j).collect::<Vec<_>>(), positions, "{what}");
-        }
-    }
-
-    #[test]
-    fn a_small_table_by_hand() {
-        // Owner 0: partners 2, 1; owner 1: partner 2; owner 2: none; owner 3: partner 2.
-        let rows = [vec![2, 1], vec![2], vec![], vec![2]];
-        let mut index = PartnerIndex::default();
-        index.rebuild(&table(4, |i| rows[i].clone()));
-        // One chunk of 4 contacts, then its 4 / 8 + 8 spare places.
-        assert_eq!(index.owner_start(), [0, 2, 3, 3, 12]);
-        let of: Vec<Vec<u32>> = (0..4).map(|j| index.of(j).collect()).collect();
-        assert_eq!(of, [vec![], vec![1], vec![0, 2, 3], vec![]]);
-        // Room 3 + 2 spare places for 4 monomers, their counts, 5 owner starts: 29 × 4 B.
-        assert!(index.heap_bytes() >= 116, "{} B", index.heap_bytes());
-    }
-
-    fn scattered(n: usize, seed: usize) -> impl Fn(usize) -> Vec<u32> {
-        move |i: usize| {
-            let k = (i * 7919 + 13 + seed) % (SLOTS + 1);
-            (1..=k)
-                .map(|s| ((i * 104_729 + s * 7_727 + seed * 31) % n) as u32)
-                .collect()
-        }
-    }
-
-    #[test]
-    fn a_rebuilt_index_is_the_index_of_the_definition() {
-        let n = 5000;
-        let t = table(n, scattered(n, 0));
-        let mut index = PartnerIndex::default();
-        index.rebuild(&t);
-        assert_defined(&index, &t, "rebuilt");
-    }
-
-    #[test]
-    fn rows_changed_by_events_update_the_index_to_the_definition() {
-        let n = 700;
-        let mut t = table(n, scattered(n, 0));
-        let mut index = PartnerIndex::default();
-        index.rebuild(&t);
-        // Per result: the owner and partner of its contact, as a forces pass would leave it.
-        let laid_out = |index: &PartnerIndex, t: &ContactTable| {
-            let mut results = vec![(u32::MAX, u32::MAX); index.owner_start()[n] as usize];
-            for i in 0..n {
-                for (s, c) in t.pairs_of(i).iter().enumerate() {
-                    results[index.owner_start()[i] as usize + s] = (i as u32, c.partner);
-                }
-            }
-            results
-        };
-        let (mut results, mut kept_rounds) = (laid_out(&index, &t), 0);
-        for round in 1..40 {
-            // Some rows lose a contact, gain one, or both (by ascending owner).
-            let owners: Vec<usize> = (0..n).filter(|i| (i * 31 + round * 17) % 97 == 0).collect();
-            let mut changes = vec![];
-            for &i in &owners {
-                let before: Vec<u32> = t.pairs_of(i).iter().map(|c| c.partner).collect();
-                let mut after = before.clone();
-                if round % 3 != 1 && !after.is_empty() {
-                    after.swap_remove((i + round) % after.len());
-                }
-                if round % 3 != 2 && after.len() < SLOTS {
-                    after.push(((i * 13 + round * 101) % n) as u32);
-                }
-                set_row(&mut t, i, &after);
-                changes.push(RowChange {
-                    owner: i as u32,
-                    partners_before: before,
-                });
-            }
-            if index.update(&t, &changes) {
-                // The unchanged rows' results stay where they were; the changed ones are
-                // evaluated into their places.
-                results.resize(index.owner_start()[n] as usize, (u32::MAX, u32::MAX));
-                for &i in &owners {
-                    for (s, c) in t.pairs_of(i).iter().enumerate() {
-                        results[index.owner_start()[i] as usize + s] = (i as u32, c.partner);
-                    }
-                }
-                let start = index.owner_start();
-                for i in 0..n {
-                    let at = start[i] as usize;
-                    let live = &results[at..at + t.pair_count[i] as usize];
-                    let expected: Vec<(u32, u32)> = t
-                        .pairs_of(i)
-                        .iter()
-                        .map(|c| (i as u32, c.partner))
-                        .collect();
-                    assert!(live == expected, "round {round}, owner {i}: {live:?}");
-                }
-                kept_rounds += 1;
-            } else {
-                // Outgrown: the caller rebuilds.
-                index.rebuild(&t);
-                results = laid_out(&index, &t);
-            }
-            assert_defined(&index, &t, &format!("round {round}"));
-        }
-        assert!(kept_rounds > 20, "{kept_rounds} rounds kept the results");
-    }
-
-    #[test]
-    fn a_monomer_outgrowing_its_room_asks_for_a_rebuild() {
-        // Monomer 0 is the partner of one contact; room 1 + 2 spare.
-        let mut t = table(6, |i| if i == 1 { vec![0] } else { vec![] });
-        let mut index = PartnerIndex::default();
-        index.rebuild(&t);
-        let mut changes = vec![];
-        for i in 2..6 {
-            set_row(&mut t, i, &[0]);
-            changes.push(RowChange {
-                owner: i as u32,
-                partners_before: vec![],
-            });
-        }
-        assert!(!index.update(&t, &changes), "5 entries in a room of 3");
-        index.rebuild(&t);
-        assert_defined(&index, &t, "rebuilt after outgrowing");
-    }
-}
+mod tests;
