@@ -7,7 +7,8 @@
 use dustdem::backend::cpu::corrections_lanes::{chunk_corrections, Noted};
 use dustdem::backend::cpu::forces::PairResult;
 use dustdem::backend::cpu::forces_lanes::{
-    chunk_forces, jkr_contact_radius_ratio_lanes, ContactLanes, OwnerChunk, ResultPlaces,
+    chunk_forces, jkr_contact_radius_ratio_lanes, radius_ratios, ContactLanes, OwnerChunk,
+    ResultPlaces,
 };
 use dustdem::backend::cpu::integrate_lanes::{chunk_pairs, PairChunk, StepForm};
 #[cfg(target_arch = "x86_64")]
@@ -173,74 +174,20 @@ fn the_masked_newton_iteration_stops_each_lane_where_the_scalar_loop_stops() {
             }
         }
     }
-}
-
-mod common;
-
-fn run_with_lanes(dir: &std::path::Path, lanes: Option<&str>) -> std::process::Output {
-    let config = dir.join("run.toml");
-    std::fs::write(
-        &config,
-        "[sample]\nmonomers = 300\nseed = 5\n[experiment]\nkind = \"omni\"\nwall_speed_m_s = 5.0\nphi_stop = 0.3\n",
-    )
-    .unwrap();
-    let out = dir.join(format!("out-{}", lanes.unwrap_or("default")));
-    let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_dustdem"));
-    command.args([
-        "run",
-        config.to_str().unwrap(),
-        "--backend",
-        "cpu",
-        "--quiet",
-        "--out",
-    ]);
-    command.arg(&out);
-    if let Some(lanes) = lanes {
-        command.env(
-            dustdem::backend::cpu::forces_lanes::CONTACT_LANES_VAR,
-            lanes,
-        );
-    }
-    command.output().unwrap()
-}
-
-#[test]
-fn a_run_writes_the_same_curve_whichever_lanes_evaluate_the_contacts() {
-    let dir = common::Scratch::new("contact-lanes-run");
-    let mut curves = vec![];
-    let mut choices = vec![Some("scalar"), Some("portable"), None];
-    if ContactLanes::detected() == ContactLanes::Avx2 {
-        // Named explicitly, it must be accepted where the processor has it.
-        choices.push(Some("avx2"));
-    }
-    for lanes in choices {
-        let run = run_with_lanes(dir.path(), lanes);
-        assert!(
-            run.status.success(),
-            "{}",
-            String::from_utf8_lossy(&run.stderr)
-        );
-        let out = dir.join(format!("out-{}", lanes.unwrap_or("default")));
-        curves.push(std::fs::read(out.join("curve.csv")).unwrap());
-    }
-    assert!(curves[0].len() > 1000, "a curve of some rows");
-    assert!(curves.iter().all(|c| *c == curves[0]));
-}
-
-#[test]
-fn an_unknown_lane_choice_is_refused_naming_the_variable_value_and_choices() {
-    let dir = common::Scratch::new("contact-lanes-bad");
-    let run = run_with_lanes(dir.path(), Some("wide"));
-    let stderr = String::from_utf8_lossy(&run.stderr);
-    assert!(!run.status.success());
-    for needle in [
-        "DUSTDEM_CONTACT_LANES",
-        "\"wide\"",
-        "scalar, portable and avx2",
+    // The wall contacts' ratios found in place, a last batch of fewer than four included.
+    let all: Vec<f64> = cases.iter().flatten().copied().chain([7.5, 0.5]).collect();
+    for lanes in [
+        ContactLanes::Scalar,
+        ContactLanes::Portable,
+        ContactLanes::detected(),
     ] {
-        assert!(stderr.contains(needle), "{needle}: {stderr}");
+        let mut found = all.clone();
+        radius_ratios(lanes, &mut found);
+        for (x, &d) in found.iter().zip(&all) {
+            let scalar = jkr_contact_radius_ratio(d);
+            assert_eq!(x.to_bits(), scalar.to_bits(), "{lanes:?}, d = {d}");
+        }
     }
-    assert!(!dir.join("out-wide").exists(), "nothing written");
 }
 
 /// Every pointer component and twist of `rows`, as bits.

@@ -232,10 +232,26 @@ pub struct WallGeometry {
 
 /// The [`WallGeometry`] of a monomer at `x` moving at `v` against `wall`.
 pub fn wall_geometry(law: &ContactLaw, x: DVec3, v: DVec3, wall: &Wall) -> WallGeometry {
+    let x_ratio = jkr_contact_radius_ratio(wall_overlap_ratio(law, x, wall));
+    wall_geometry_at_ratio(law, x_ratio, v, wall)
+}
+
+/// A monomer at `x`'s overlap with `wall` in units of the wall's δ₀: what the JKR contact
+/// radius ratio of [`wall_geometry`] is found from.
+pub fn wall_overlap_ratio(law: &ContactLaw, x: DVec3, wall: &Wall) -> f64 {
+    wall_law::wall_overlap(x, wall.point, wall.normal, law.radius) / wall.constants.delta0
+}
+
+/// [`wall_geometry`] with its contact radius ratio `x_ratio` known (found several contacts at
+/// a time in the CPU engine's contacts pass).
+pub fn wall_geometry_at_ratio(
+    law: &ContactLaw,
+    x_ratio: f64,
+    v: DVec3,
+    wall: &Wall,
+) -> WallGeometry {
     let k = &wall.constants;
-    let r = law.radius;
     let n = wall.normal;
-    let x_ratio = jkr_contact_radius_ratio(wall_law::wall_overlap(x, wall.point, n, r) / k.delta0);
     let normal = n * jkr_force(x_ratio, k.f_c);
     let coefficient = damping_coefficient(&law.damping, x_ratio * k.a0, law.e_star, law.poisson);
     let damping = n * (-coefficient * (v - wall.velocity).dot(n));

@@ -9,14 +9,14 @@
 //! the thread count.
 
 use super::corrections_lanes::chunk_corrections;
-use super::forces_lanes::ContactLanes;
+use super::forces_lanes::{radius_ratios, ContactLanes};
 use super::partner_index::RowChange;
 use super::walls::{wall_contacts_of, WallResult};
 use super::workspace::{split_len, sum_in_order, Workspace, CHUNK};
 use crate::backend::script::{OWNER_CORRECTIONS, OWNER_EVENTS, OWNER_INDEX, OWNER_WALLS};
 use crate::engine::EngineError;
 use crate::model::{wall as wall_law, ContactLaw};
-use crate::state::interaction::{pair_step_energy, wall_step_energy};
+use crate::state::interaction::{pair_step_energy, wall_overlap_ratio, wall_step_energy};
 use crate::state::{
     ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact, MAX_PAIR_SLOTS,
 };
@@ -105,7 +105,9 @@ pub fn contacts(
                 let mut changed = Vec::new();
                 let first = chunk * CHUNK;
                 let items = items_of(work, first, pair_counts.len());
-                for &item in items {
+                let wall_rows_of = |k: usize| &wall_rows[k * ws..k * ws + wall_counts[k] as usize];
+                let known = known_ratios(&shared, lanes, items, first, ws, wall_rows_of);
+                for (at, &item) in items.iter().enumerate() {
                     let k = (item & OWNER_INDEX) as usize - first;
                     let mut row = Row {
                         pair: &mut pairs[k * ps..(k + 1) * ps],
@@ -114,7 +116,9 @@ pub fn contacts(
                         wall_count: &mut wall_counts[k],
                     };
                     let results = &mut results[k * ws..(k + 1) * ws];
-                    let change = owner_work(&shared, item, &mut row, results, &mut dissipated)?;
+                    let known = &known[at * ws..(at + 1) * ws];
+                    let walls = (results, known);
+                    let change = owner_work(&shared, item, &mut row, walls, &mut dissipated)?;
                     changed.extend(change);
                 }
                 // After the events, which may add contacts the corrections then see; the
@@ -146,13 +150,50 @@ pub fn contacts(
     Ok(changed)
 }
 
+/// The contact radius ratio of each wall contact the listed owners with wall work (`items`,
+/// of the chunk from owner `first`) have before their events, per item `ws` slots of (wall,
+/// ratio), found four at a time (the JKR inversion is most of a wall contact's arithmetic);
+/// they depend on the monomer and the wall only, so a contact the events leave in its slot
+/// uses its own. Empty slots hold no wall.
+fn known_ratios<'a>(
+    s: &Shared,
+    lanes: ContactLanes,
+    items: &[u32],
+    first: usize,
+    ws: usize,
+    wall_rows_of: impl Fn(usize) -> &'a [WallContact],
+) -> Vec<(u32, f64)> {
+    let mut known = vec![(u32::MAX, 0.0); items.len() * ws];
+    let mut ratios = Vec::new();
+    for &item in items.iter().filter(|w| *w & OWNER_WALLS != 0) {
+        let i = (item & OWNER_INDEX) as usize;
+        for c in wall_rows_of(i - first) {
+            let x = s.monomers.position[i];
+            ratios.push(wall_overlap_ratio(s.law, x, &s.walls[c.wall as usize]));
+        }
+    }
+    radius_ratios(lanes, &mut ratios);
+    let mut ratios = ratios.into_iter();
+    for (at, &item) in items.iter().enumerate() {
+        if item & OWNER_WALLS == 0 {
+            continue;
+        }
+        let i = (item & OWNER_INDEX) as usize;
+        for (slot, c) in wall_rows_of(i - first).iter().enumerate() {
+            let x = ratios.next().expect("a ratio per wall contact");
+            known[at * ws + slot] = (c.wall, x);
+        }
+    }
+    known
+}
+
 /// One listed owner's work, in the device's order: events, limits, wall contacts. Returns
 /// its pair row as it was, where a pair contact formed or broke.
 fn owner_work(
     s: &Shared,
     item: u32,
     row: &mut Row,
-    wall_results: &mut [WallResult],
+    (wall_results, known): (&mut [WallResult], &[(u32, f64)]),
     dissipated: &mut Dissipation,
 ) -> Result<Option<RowChange>, EngineError> {
     let i = (item & OWNER_INDEX) as usize;
@@ -181,7 +222,7 @@ fn owner_work(
             s.monomers,
             i,
             &mut row.wall[..count],
-            &mut wall_results[..count],
+            (&mut wall_results[..count], known),
             s.books.1.then_some(dissipated),
         );
     }

@@ -15,7 +15,7 @@ use super::lanes::Avx2;
 use super::lanes::{Isa, Portable, F4, M4, V4};
 use super::prefetch::{prefetch_one, prefetch_partners_ahead, prefetch_row_ahead, Prefetching};
 use crate::model::damping::Damping;
-use crate::model::normal::{D_MIN, X_MIN, Y_MIN};
+use crate::model::normal::{jkr_contact_radius_ratio, D_MIN, X_MIN, Y_MIN};
 use crate::model::ContactLaw;
 use crate::state::interaction::pair_interaction;
 use crate::state::{Monomers, PairContact};
@@ -423,6 +423,39 @@ pub fn pair_tangential_lanes<S: Isa>(
         torque2,
         xi,
         zeta,
+    }
+}
+
+/// `jkr_contact_radius_ratio` of each overlap ratio in `d`, in place, `lanes` wide (a last
+/// batch of fewer than four one at a time): the same bits as one at a time.
+pub fn radius_ratios(lanes: ContactLanes, d: &mut [f64]) {
+    match lanes {
+        #[cfg(target_arch = "x86_64")]
+        ContactLanes::Avx2 => {
+            assert!(std::arch::is_x86_feature_detected!("avx2"));
+            // SAFETY: the processor has AVX2 (checked above).
+            unsafe { radius_ratios_avx2(d) }
+        }
+        ContactLanes::Scalar => d.iter_mut().for_each(|d| *d = jkr_contact_radius_ratio(*d)),
+        _ => radius_ratios_in_lanes::<Portable>(d),
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn radius_ratios_avx2(d: &mut [f64]) {
+    radius_ratios_in_lanes::<Avx2>(d)
+}
+
+#[inline(always)]
+fn radius_ratios_in_lanes<S: Isa>(d: &mut [f64]) {
+    let mut fours = d.chunks_exact_mut(4);
+    for four in &mut fours {
+        let x = jkr_contact_radius_ratio_lanes(F4::<S>::new([four[0], four[1], four[2], four[3]]));
+        four.copy_from_slice(&x.0);
+    }
+    for d in fours.into_remainder() {
+        *d = jkr_contact_radius_ratio(*d);
     }
 }
 

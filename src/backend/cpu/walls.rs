@@ -15,7 +15,8 @@ use super::workspace::{split_len, Workspace, CHUNK};
 use crate::backend::script::{OWNER_INDEX, OWNER_WALLS};
 use crate::model::{twisting, wall as wall_law, ContactLaw};
 use crate::state::interaction::{
-    wall_geometry, wall_interaction_at, wall_tangential_step_energy, WallMotion,
+    wall_geometry, wall_geometry_at_ratio, wall_interaction_at, wall_tangential_step_energy,
+    WallMotion,
 };
 use crate::state::reduction::{
     reduce_walls_block_of, reduce_walls_final_from, WallRows, REDUCE_BLOCK,
@@ -80,7 +81,10 @@ pub fn apply_wall_inelastic_limits(
 
 /// The wall contacts of monomer `i` (`rows`, its contacts in slot order): inelastic limits,
 /// then forces into `results` (one per slot), the limits' dissipation into `tally` where
-/// there is one. Twin of `wall_contacts_of` in shaders/engine/owner.wgsl.
+/// there is one. `known` may hold per slot a wall and the contact radius ratio against it,
+/// found beforehand (the contacts pass finds them four at a time); a slot whose contact is
+/// against another wall finds its own. Twin of `wall_contacts_of` in
+/// shaders/engine/owner.wgsl.
 #[allow(clippy::too_many_arguments)]
 pub fn wall_contacts_of(
     law: &ContactLaw,
@@ -89,15 +93,18 @@ pub fn wall_contacts_of(
     monomers: &Monomers,
     i: usize,
     rows: &mut [WallContact],
-    results: &mut [WallResult],
+    (results, known): (&mut [WallResult], &[(u32, f64)]),
     mut tally: Option<&mut Dissipation>,
 ) {
-    let x = monomers.position[i];
-    for (c, out) in rows.iter_mut().zip(results) {
+    let (x, v) = (monomers.position[i], monomers.velocity[i]);
+    for (s, (c, out)) in rows.iter_mut().zip(results).enumerate() {
         let wall = &walls[c.wall as usize];
         let booked = tally.as_deref_mut();
         apply_wall_inelastic_limits(law, monomers, dt, i, wall, c, booked);
-        let g = wall_geometry(law, x, monomers.velocity[i], wall);
+        let g = match known.get(s) {
+            Some(&(w, x_ratio)) if w == c.wall => wall_geometry_at_ratio(law, x_ratio, v, wall),
+            _ => wall_geometry(law, x, v, wall),
+        };
         let (force, damping, torque) = wall_interaction_at(law, &g, x, wall, c);
         *out = WallResult {
             force,
@@ -133,7 +140,7 @@ pub fn wall_contacts(
             monomers,
             i,
             &mut table.wall[slots.clone()],
-            &mut workspace.wall_result[slots],
+            (&mut workspace.wall_result[slots], &[]),
             Some(&mut tally),
         );
     }
