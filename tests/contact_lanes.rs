@@ -341,12 +341,15 @@ fn advanced_and_corrected(
     };
     let mut noted = Noted::with_room_for(rows_len(counts), true);
     let mut results = vec![PairResult::default(); rows_len(counts)];
+    // The lanes book as they go (the scalar code ignores it and notes everything); what is
+    // noted is booked after.
+    let mut tally = Dissipation::default();
     let step = StepForm {
         noted: &mut noted,
         results: Some(one_after_another(&mut results)),
+        booked: Some(&mut tally),
     };
     chunk_pairs(lanes, law, DT, m, chunk, &mut tests, Some(step));
-    let mut tally = Dissipation::default();
     noted.book(lanes, law, DT, m, &mut tally);
     (row_bits(&rows), tests, tally, results)
 }

@@ -277,7 +277,9 @@ fn four_results<S: Isa>(
 }
 
 /// What four contacts `c` exert with their monomers at `x` and moving at `v` (owners,
-/// partners), each into its place (`out`: the results and the four places).
+/// partners), each into its place (`out`: the results and the four places). Returns the
+/// tangential part it evaluated, the twist it read and the relative velocity: what the
+/// contacts' step energies need besides the spins (booking_lanes.rs).
 #[inline(always)]
 pub(super) fn results_of_four<S: Isa>(
     law: &ContactLaw,
@@ -285,21 +287,21 @@ pub(super) fn results_of_four<S: Isa>(
     [v1, v2]: [V4<S>; 2],
     c: [&PairContact; 4],
     (out, place): (&mut [PairResult], &[usize; 4]),
-) {
+) -> (TangentialLanes<S>, F4<S>, V4<S>) {
     let n1 = V4::<S>::gather(|l| c[l].n1);
     let n2 = V4::<S>::gather(|l| c[l].n2);
     let twist = F4::<S>::new([c[0].twist, c[1].twist, c[2].twist, c[3].twist]);
     let g = pair_geometry_lanes(law, x1, x2, v1, v2);
-    let (force, damping, torque_owner, torque_partner) =
-        pair_interaction_at_lanes(law, &g, n1, n2, twist);
+    let (t, force) = pair_interaction_at_lanes(law, &g, n1, n2, twist);
     for (l, &p) in place.iter().enumerate() {
         out[p] = PairResult {
             force: force.lane(l),
-            damping: damping.lane(l),
-            torque_owner: torque_owner.lane(l),
-            torque_partner: torque_partner.lane(l),
+            damping: g.damping.lane(l),
+            torque_owner: t.torque1.lane(l),
+            torque_partner: t.torque2.lane(l),
         };
     }
+    (t, twist, g.v_rel)
 }
 
 /// `PairGeometry` of four contacts.
@@ -362,7 +364,8 @@ fn jkr_force_lanes<S: Isa>(x: F4<S>, f_c: f64) -> F4<S> {
     4.0 * f_c * (x * x * x - x * x.sqrt())
 }
 
-/// Lane twin of `pair_interaction_at`: (force on 1, damping part, torque on 1, torque on 2).
+/// Lane twin of `pair_interaction_at`: the tangential part (with the torques on 1 and 2) and
+/// the force on 1 (its damping part is `g.damping`).
 #[inline(always)]
 pub fn pair_interaction_at_lanes<S: Isa>(
     law: &ContactLaw,
@@ -370,14 +373,10 @@ pub fn pair_interaction_at_lanes<S: Isa>(
     n1: V4<S>,
     n2: V4<S>,
     twist: F4<S>,
-) -> (V4<S>, V4<S>, V4<S>, V4<S>) {
+) -> (TangentialLanes<S>, V4<S>) {
     let t = pair_tangential_lanes(law, g.nc, g.distance, n1, n2, twist);
-    (
-        g.normal + g.damping + t.slide,
-        g.damping,
-        t.torque1,
-        t.torque2,
-    )
+    let force = g.normal + g.damping + t.slide;
+    (t, force)
 }
 
 /// The rolling, sliding and twisting part of four contacts' interaction, with the

@@ -209,11 +209,18 @@ fn pairs_pass(
                 chunk_pairs(lanes, law, dt, monomers, owners, tests, None);
                 return dissipated;
             };
-            let contacts = counts.iter().map(|&c| c as usize).sum();
+            // Where the forces are evaluated, the lanes book as they go and note only a last
+            // batch of fewer than four (the scalar lanes note everything).
+            let in_lanes = books && results.is_some() && lanes != ContactLanes::Scalar;
+            let contacts = match in_lanes {
+                true => 3,
+                false => counts.iter().map(|&c| c as usize).sum(),
+            };
             let mut noted = Noted::with_room_for(contacts, books);
             let step = StepForm {
                 noted: &mut noted,
                 results,
+                booked: in_lanes.then_some(&mut dissipated),
             };
             chunk_pairs(lanes, law, dt, monomers, owners, tests, Some(step));
             if books {

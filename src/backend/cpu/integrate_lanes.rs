@@ -13,7 +13,8 @@
 //! evaluates each contact's force on those values (`results_of_four`, forces_lanes.rs), as
 //! the forces pass would after the events.
 
-use super::corrections_lanes::{Found, Noted};
+use super::booking_lanes::{correct_and_book_four, Advanced};
+use super::corrections_lanes::{Found, Frame, Noted};
 use super::forces::PairResult;
 use super::forces_lanes::{result_at, results_of_four, ContactLanes, OwnerChunk, ResultPlaces};
 use super::integrate::integrate_pair_contact;
@@ -23,8 +24,8 @@ use super::lanes::{Isa, Portable, F4, M4, V4};
 use super::limits_lanes::{rolling_correction_lanes, sliding_correction_lanes};
 use crate::backend::script::{PAIR_TEST_BEYOND, PAIR_TEST_BREAKS};
 use crate::model::ContactLaw;
-use crate::state::interaction::{pair_frame, PairFrame};
-use crate::state::{Monomers, PairContact};
+use crate::state::interaction::pair_frame;
+use crate::state::{Dissipation, Monomers, PairContact};
 
 /// `integrate_pairs`' chunk of owners: it advances the rows in place.
 pub type PairChunk<'a> = OwnerChunk<'a, &'a mut [PairContact]>;
@@ -36,6 +37,10 @@ pub type PairChunk<'a> = OwnerChunk<'a, &'a mut [PairContact]>;
 pub struct StepForm<'a> {
     pub noted: &'a mut Noted,
     pub results: Option<ResultPlaces<'a>>,
+    /// Where the forces are evaluated, the chunk's tally: the corrections of each four
+    /// contacts are booked into it in the lanes as they are made (booking_lanes.rs), and only
+    /// a last batch of fewer than four is noted for [`Noted::book`], which books it after them.
+    pub booked: Option<&'a mut Dissipation>,
 }
 
 impl StepForm<'_> {
@@ -93,14 +98,16 @@ fn parts<'s>(step: &'s mut Option<StepForm>) -> (Option<&'s mut Noted>, bool) {
 type FourForm<'s> = (
     Option<&'s mut Noted>,
     Option<(&'s mut [PairResult], &'s [usize; 4])>,
+    Option<&'s mut Dissipation>,
 );
 
 fn parts_of_four<'s>(step: &'s mut Option<StepForm>, place: &'s [usize; 4]) -> FourForm<'s> {
     match step {
-        None => (None, None),
+        None => (None, None, None),
         Some(form) => (
             Some(&mut *form.noted),
             form.results.as_mut().map(|r| (&mut *r.results, place)),
+            form.booked.as_deref_mut(),
         ),
     }
 }
@@ -263,7 +270,7 @@ fn four_pairs<S: Isa>(
     dt: f64,
     m: &Monomers,
     four: Four,
-    (noted, out): FourForm,
+    (noted, mut out, booked): FourForm,
 ) -> [u32; 4] {
     let Four {
         rows,
@@ -305,6 +312,20 @@ fn four_pairs<S: Isa>(
     let Some(noted) = noted else {
         return bits;
     };
+    if let (Some(out), Some(tally)) = (out.as_mut(), booked) {
+        let advanced = Advanced {
+            x: [x1, x2],
+            v: [v1, v2],
+            w: [w1, w2],
+            n: [n1, n2],
+            nc,
+            twist,
+        };
+        let corrected = bits.map(corrected_now);
+        let out = (&mut *out.0, out.1);
+        correct_and_book_four(law, dt, (rows, slot), &advanced, corrected, out, tally);
+        return bits.map(|b| b & !PAIR_TEST_BEYOND);
+    }
     let at = Four {
         rows: &mut *rows,
         first,
@@ -354,7 +375,7 @@ fn correct_four<S: Isa>(
     let a = V4::select(rolled, rolled_n1, n1);
     let b = V4::select(rolled, rolled_n2, n2);
     let (slid, slid_n1, slid_n2) = sliding_correction_lanes(a, b, nc, law.radius, k.zeta_crit);
-    let frames = FramesOf::new(x1, x2, v1, v2);
+    let frames = Frame::of(x1, x2, v1, v2);
     let set = |mask: M4<S>, l: usize| mask.0[l] != 0;
     for l in (0..4).filter(|&l| corrected_now(bits[l])) {
         let found = Found {
@@ -364,35 +385,6 @@ fn correct_four<S: Isa>(
         noted.apply(law, first + owner[l], &mut rows[slot[l]], found, || {
             frames.lane(l)
         });
-    }
-}
-
-/// `pair_frame` of four contacts: the lanes' operations in its order, the same bits.
-struct FramesOf<S: Isa> {
-    distance: F4<S>,
-    nc: V4<S>,
-    v_rel: V4<S>,
-}
-
-impl<S: Isa> FramesOf<S> {
-    #[inline(always)]
-    fn new(x1: V4<S>, x2: V4<S>, v1: V4<S>, v2: V4<S>) -> Self {
-        let d = x1 - x2;
-        let distance = d.length();
-        FramesOf {
-            distance,
-            nc: d.divide(distance),
-            v_rel: v1 - v2,
-        }
-    }
-
-    #[inline(always)]
-    fn lane(&self, l: usize) -> PairFrame {
-        PairFrame {
-            distance: self.distance.0[l],
-            nc: self.nc.lane(l),
-            v_rel: self.v_rel.lane(l),
-        }
     }
 }
 

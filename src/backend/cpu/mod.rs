@@ -19,6 +19,7 @@
 //! then over chunks in order. So the state after any number of steps is the same to the bit
 //! for any thread count; one thread runs the same code.
 
+mod booking_lanes;
 pub mod contacts;
 pub mod corrections_lanes;
 mod executor;
