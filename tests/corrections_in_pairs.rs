@@ -1,7 +1,8 @@
 //! A CPU run applies the pair contacts' inelastic corrections in `integrate_pairs`
 //! (`integrate_pairs_step`), not in the contacts pass, evaluates the forces there too (the
-//! forces pass then only for the rows the events changed), and joins each step's kick to the
-//! gather of the step before (`wall_forces` with a `NextKick`), unlike the passes run one by one
+//! forces pass then only for the rows the events changed), runs the contacts scan and the
+//! contacts pass in one sweep over the chunks (`contacts_scanned`), and joins each step's kick
+//! to the gather of the step before (`wall_forces` with a `NextKick`), unlike the passes run one by one
 //! (the device's order). Both give the same state to the bit over a compression with contact
 //! events, corrections and wall contacts; the tally's correction channels add the same terms,
 //! in another order only within an owner whose contact broke that step.

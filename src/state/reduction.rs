@@ -69,10 +69,23 @@ pub fn reduce_walls_block_of(
 ) {
     let end = rows.first + rows.counts.len();
     for i in block * REDUCE_BLOCK..((block + 1) * REDUCE_BLOCK).min(end) {
-        for slot in 0..rows.counts[i - rows.first] as usize {
-            let idx = i * rows.slots + slot;
-            sums[rows.rows[idx - rows.first * rows.slots].wall as usize] += slot_force(idx);
-        }
+        add_wall_slots_of(rows, &slot_force, i, sums);
+    }
+}
+
+/// Monomer `i`'s share of [`reduce_walls_block_of`]: its wall-contact forces in slot order,
+/// added to `sums[wall]`. Called for the block's monomers in index order, it gives the
+/// block's sums (the CPU's `wall_forces` adds each monomer's as it gathers it).
+#[inline]
+pub fn add_wall_slots_of(
+    rows: WallRows,
+    slot_force: impl Fn(usize) -> DVec3,
+    i: usize,
+    sums: &mut [DVec3],
+) {
+    for slot in 0..rows.counts[i - rows.first] as usize {
+        let idx = i * rows.slots + slot;
+        sums[rows.rows[idx - rows.first * rows.slots].wall as usize] += slot_force(idx);
     }
 }
 

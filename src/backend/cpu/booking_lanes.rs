@@ -12,7 +12,7 @@
 
 use super::corrections_lanes::{step_energy_of_tangential, tangential_step_energy_lanes, Frame};
 use super::forces::PairResult;
-use super::forces_lanes::results_of_four;
+use super::forces_lanes::{pointers_of, results_of_four};
 use super::lanes::{Isa, F4, V4};
 use super::limits_lanes::{rolling_correction_lanes, sliding_correction_lanes};
 use crate::model::{twisting, ContactLaw};
@@ -58,6 +58,11 @@ pub(super) fn correct_and_book_four<S: Isa>(
     out: (&mut [PairResult], &[usize; 4]),
     tally: &mut Dissipation,
 ) {
+    if !corrected.contains(&true) {
+        // Nothing moves the pointers: the forces of the lanes as they are.
+        results_of_four(law, a.x, a.v, (a.n, a.twist), out);
+        return;
+    }
     let k = &law.pair;
     let [n1, n2] = a.n;
     // Corrections::found of the twin on the same values: the rolling correction, then the
@@ -97,7 +102,8 @@ pub(super) fn correct_and_book_four<S: Isa>(
         &rows[slot[2]],
         &rows[slot[3]],
     ];
-    let (t, twist, v_rel) = results_of_four(law, a.x, a.v, c, out);
+    let (n, twist) = pointers_of(c);
+    let (t, v_rel) = results_of_four(law, a.x, a.v, (n, twist), out);
     if !had.iter().any(|h| h.any()) {
         return;
     }

@@ -10,7 +10,9 @@
 
 use super::corrections_lanes::chunk_corrections;
 use super::forces_lanes::{radius_ratios, ContactLanes};
+use super::neighbours::NeighbourList;
 use super::partner_index::RowChange;
+use super::scan::{RowsFrom, Scan};
 use super::walls::{wall_contacts_of, WallResult};
 use super::workspace::{split_len, sum_in_order, Workspace, CHUNK};
 use crate::backend::script::{OWNER_CORRECTIONS, OWNER_EVENTS, OWNER_INDEX, OWNER_WALLS};
@@ -47,6 +49,8 @@ struct Shared<'a> {
     starts: &'a [u32],
     /// Whether the tally books the pair and the wall corrections (their channels not NaN).
     books: (bool, bool),
+    /// The table's pair and wall slots per owner.
+    slots: (usize, usize),
 }
 
 /// Does what `work` (contacts_scan's list) says for each listed owner: its contact events
@@ -85,6 +89,7 @@ pub fn contacts(
             tally.books_pair_corrections(),
             tally.books_wall_corrections(),
         ),
+        slots: (ps, ws),
     };
     workspace.size_wall_results(n * ws);
     let lanes = ContactLanes::chosen();
@@ -99,46 +104,86 @@ pub fn contacts(
         .into_par_iter()
         .with_min_len(split_len(n, CHUNK))
         .enumerate()
-        .map(
-            |(chunk, (pairs, pair_counts, wall_rows, wall_counts, results))| {
-                let mut dissipated = Dissipation::default();
-                let mut changed = Vec::new();
-                let first = chunk * CHUNK;
-                let items = items_of(work, first, pair_counts.len());
-                let wall_rows_of = |k: usize| &wall_rows[k * ws..k * ws + wall_counts[k] as usize];
-                let known = known_ratios(&shared, lanes, items, first, ws, wall_rows_of);
-                for (at, &item) in items.iter().enumerate() {
-                    let k = (item & OWNER_INDEX) as usize - first;
-                    let mut row = Row {
-                        pair: &mut pairs[k * ps..(k + 1) * ps],
-                        pair_count: &mut pair_counts[k],
-                        wall: &mut wall_rows[k * ws..(k + 1) * ws],
-                        wall_count: &mut wall_counts[k],
-                    };
-                    let results = &mut results[k * ws..(k + 1) * ws];
-                    let known = &known[at * ws..(at + 1) * ws];
-                    let walls = (results, known);
-                    let change = owner_work(&shared, item, &mut row, walls, &mut dissipated)?;
-                    changed.extend(change);
-                }
-                // After the events, which may add contacts the corrections then see; the
-                // corrections book only their own channels, so their order against the
-                // events' and walls' bookings does not matter.
-                let corrected = items.iter().filter(|w| *w & OWNER_CORRECTIONS != 0);
-                let rows = pairs.chunks_mut(ps).zip(pair_counts.iter()).enumerate();
-                let mut rows =
-                    rows.map(|(k, (row, &count))| (first + k, &mut row[..count as usize]));
-                let owners = corrected.map(|w| {
-                    let i = (w & OWNER_INDEX) as usize;
-                    rows.find(|(owner, _)| *owner == i)
-                        .expect("a listed owner's row")
-                });
-                let booked = shared.books.0.then_some(&mut dissipated);
-                chunk_corrections(lanes, law, dt, monomers, owners, booked);
-                Ok((dissipated, changed))
-            },
-        )
+        .map(|(chunk, rows)| {
+            let items = items_of(work, chunk * CHUNK, rows.1.len());
+            chunk_work(&shared, lanes, chunk, rows, items)
+        })
         .collect();
+    sum_chunks(chunks, tally)
+}
+
+/// The step's `contacts_scan` and `contacts` in one parallel sweep: each chunk's owners
+/// scanned, then the chunk's listed owners' work done at once, while the rows are at hand.
+/// A chunk's scan reads only its own owners' rows, and a chunk's work changes only its own
+/// owners' rows, so every scan sees the rows before the events, as in the passes one after
+/// the other: the same work list (left in `workspace.work`), rows and tally.
+pub fn contacts_scanned(
+    (law, dt): (&ContactLaw, f64),
+    monomers: &Monomers,
+    walls: &[Wall],
+    list: &mut NeighbourList,
+    table: &mut ContactTable,
+    tally: &mut Dissipation,
+    workspace: &mut Workspace,
+) -> Result<Vec<RowChange>, EngineError> {
+    let (ps, ws) = (table.pair_slots, table.wall_slots);
+    assert!(
+        ps <= MAX_PAIR_SLOTS,
+        "{ps} pair slots, at most {MAX_PAIR_SLOTS}"
+    );
+    let n = monomers.len();
+    let scan = Scan::new(law, monomers, walls, list, table);
+    let list = scan.list();
+    let shared = Shared {
+        law,
+        dt,
+        monomers,
+        walls,
+        candidates: &list.pairs,
+        starts: &list.starts,
+        books: (
+            tally.books_pair_corrections(),
+            tally.books_wall_corrections(),
+        ),
+        slots: (ps, ws),
+    };
+    workspace.size_wall_results(n * ws);
+    let lanes = ContactLanes::chosen();
+    let pair_tests = &workspace.pair_tests;
+    type Done = Result<((Dissipation, Vec<RowChange>), Vec<u32>), EngineError>;
+    let chunks: Vec<Done> = (
+        table.pair.par_chunks_mut(CHUNK * ps),
+        table.pair_count.par_chunks_mut(CHUNK),
+        table.wall.par_chunks_mut(CHUNK * ws),
+        table.wall_count.par_chunks_mut(CHUNK),
+        workspace.wall_result.par_chunks_mut(CHUNK * ws),
+    )
+        .into_par_iter()
+        .with_min_len(split_len(n, CHUNK))
+        .enumerate()
+        .map(|(chunk, rows)| {
+            let before = (&*rows.0, &*rows.1, &*rows.2, &*rows.3);
+            let before = RowsFrom::chunk(chunk * CHUNK, before, (ps, ws));
+            let items = scan.chunk(&before, pair_tests, chunk);
+            chunk_work(&shared, lanes, chunk, rows, &items).map(|done| (done, items))
+        })
+        .collect();
+    let mut done = Vec::with_capacity(chunks.len());
+    workspace.work.clear();
+    for c in chunks {
+        done.push(c.map(|(d, items)| {
+            workspace.work.extend(items);
+            d
+        }));
+    }
+    sum_chunks(done, tally)
+}
+
+/// The chunks' tallies added to `tally` in chunk order; the changed rows, by ascending owner.
+fn sum_chunks(
+    chunks: Vec<Result<(Dissipation, Vec<RowChange>), EngineError>>,
+    tally: &mut Dissipation,
+) -> Result<Vec<RowChange>, EngineError> {
     let mut sums = Vec::with_capacity(chunks.len());
     let mut changed = Vec::new();
     for c in chunks {
@@ -148,6 +193,61 @@ pub fn contacts(
     }
     tally.add(&sum_in_order(&sums));
     Ok(changed)
+}
+
+/// One chunk's rows of the table (pairs, pair counts, walls, wall counts) and its wall results.
+type ChunkRows<'a> = (
+    &'a mut [PairContact],
+    &'a mut [u32],
+    &'a mut [WallContact],
+    &'a mut [u32],
+    &'a mut [WallResult],
+);
+
+/// What `items` (the work items of chunk `chunk`'s owners) say, for each listed owner in
+/// order: its work, then the corrections; what the chunk dissipated and the rows it changed.
+fn chunk_work(
+    shared: &Shared,
+    lanes: ContactLanes,
+    chunk: usize,
+    (pairs, pair_counts, wall_rows, wall_counts, results): ChunkRows,
+    items: &[u32],
+) -> Result<(Dissipation, Vec<RowChange>), EngineError> {
+    let (law, dt, monomers) = (shared.law, shared.dt, shared.monomers);
+    let (ps, ws) = shared.slots;
+    let mut dissipated = Dissipation::default();
+    let mut changed = Vec::new();
+    let first = chunk * CHUNK;
+    let wall_rows_of = |k: usize| &wall_rows[k * ws..k * ws + wall_counts[k] as usize];
+    let known = known_ratios(shared, lanes, items, first, ws, wall_rows_of);
+    for (at, &item) in items.iter().enumerate() {
+        let k = (item & OWNER_INDEX) as usize - first;
+        let mut row = Row {
+            pair: &mut pairs[k * ps..(k + 1) * ps],
+            pair_count: &mut pair_counts[k],
+            wall: &mut wall_rows[k * ws..(k + 1) * ws],
+            wall_count: &mut wall_counts[k],
+        };
+        let results = &mut results[k * ws..(k + 1) * ws];
+        let known = &known[at * ws..(at + 1) * ws];
+        let walls = (results, known);
+        let change = owner_work(shared, item, &mut row, walls, &mut dissipated)?;
+        changed.extend(change);
+    }
+    // After the events, which may add contacts the corrections then see; the corrections
+    // book only their own channels, so their order against the events' and walls' bookings
+    // does not matter.
+    let corrected = items.iter().filter(|w| *w & OWNER_CORRECTIONS != 0);
+    let rows = pairs.chunks_mut(ps).zip(pair_counts.iter()).enumerate();
+    let mut rows = rows.map(|(k, (row, &count))| (first + k, &mut row[..count as usize]));
+    let owners = corrected.map(|w| {
+        let i = (w & OWNER_INDEX) as usize;
+        rows.find(|(owner, _)| *owner == i)
+            .expect("a listed owner's row")
+    });
+    let booked = shared.books.0.then_some(&mut dissipated);
+    chunk_corrections(lanes, law, dt, monomers, owners, booked);
+    Ok((dissipated, changed))
 }
 
 /// The contact radius ratio of each wall contact the listed owners with wall work (`items`,

@@ -2,13 +2,14 @@
 //! function of its entry point's name, on the engine's state and workspace. The match covers
 //! every [`Kernel`], so an entry point added to the WGSL has no CPU engine until it has a twin.
 
-use super::contacts::contacts;
+use super::contacts::{contacts, contacts_scanned};
 use super::forces::{forces, forces_corrections, forces_of_changed_rows};
 use super::integrate::{
     integrate_clear_work, integrate_drift, integrate_kick, integrate_pairs, integrate_pairs_step,
     integrate_start, NextKick,
 };
 use super::neighbours::{mark_partners_of, neighbours, neighbours_list};
+use super::partner_index::RowChange;
 use super::scan::{contacts_clear_tally, contacts_pair_tests, contacts_scan};
 use super::walls::{reduce_walls_final, wall_contacts, wall_forces};
 use super::CpuEngine;
@@ -102,8 +103,9 @@ impl CpuEngine {
 
     /// One pass as the step runs it: `integrate_pairs` in its step form
     /// (`integrate_pairs_step`: the pair contacts' inelastic corrections applied, and their
-    /// forces evaluated, where their pointers are advanced), `forces` then only for the rows
-    /// the contact events changed (`forces_of_changed_rows`), every other pass as
+    /// forces evaluated, where their pointers are advanced), `contacts_scan` and `contacts`
+    /// in one sweep (`contacts_scanned`, run at `contacts_scan`), `forces` then only for the
+    /// rows the contact events changed (`forces_of_changed_rows`), every other pass as
     /// [`Self::run_pass`]. The state after a whole step is the same to the bit either way;
     /// `run_pass` keeps each pass the device's twin, for comparing them pass by pass.
     pub fn run_step_pass(&mut self, pass: Kernel) -> Result<(), EngineError> {
@@ -114,6 +116,9 @@ impl CpuEngine {
             Kernel::IntegratePairs => {
                 integrate_pairs_step(&law, dt, &s.monomers, &mut s.contacts, w, &mut s.tally)
             }
+            Kernel::ContactsScan => return self.contacts_scanned_step(),
+            // Done by the step's form of `contacts_scan`.
+            Kernel::Contacts => {}
             Kernel::Forces if w.results_of_step && w.partner_index_current => {
                 forces_of_changed_rows(&law, &s.monomers, &s.contacts, w);
                 w.results_of_step = false;
@@ -152,8 +157,7 @@ impl CpuEngine {
         self.run_pass(Kernel::IntegrateKick)
     }
 
-    /// `contacts` on the work list `contacts_scan` left; the partner index follows the pair
-    /// rows a contact forming or breaking changed (or, where it cannot, is marked stale).
+    /// `contacts` on the work list `contacts_scan` left, then [`Self::after_events`].
     fn contacts_of_the_listed_owners(&mut self) -> Result<(), EngineError> {
         let s = &mut self.state;
         let w = &mut self.workspace;
@@ -172,7 +176,33 @@ impl CpuEngine {
             w,
         );
         w.work = work;
-        let changed = changed?;
+        self.after_events(changed?);
+        Ok(())
+    }
+
+    /// The step's `contacts_scan` and `contacts` in one sweep (`contacts_scanned`), then
+    /// [`Self::after_events`].
+    fn contacts_scanned_step(&mut self) -> Result<(), EngineError> {
+        let s = &mut self.state;
+        let changed = contacts_scanned(
+            (&s.law, s.dt),
+            &s.monomers,
+            &s.walls,
+            &mut self.neighbours,
+            &mut s.contacts,
+            &mut s.tally,
+            &mut self.workspace,
+        )?;
+        self.after_events(changed);
+        Ok(())
+    }
+
+    /// After the contact events: the partner index follows the pair rows a contact forming or
+    /// breaking changed (or, where it cannot, is marked stale), and so do the partner marks.
+    fn after_events(&mut self, changed: Vec<RowChange>) {
+        let s = &mut self.state;
+        let w = &mut self.workspace;
+        let list = &mut self.neighbours;
         if !changed.is_empty() && w.partner_index_current {
             let results = &mut w.pair_result;
             w.partner_index_current = w.incoming.update(&s.contacts, &changed, results);
@@ -185,6 +215,5 @@ impl CpuEngine {
                 mark_partners_of(list, &s.contacts, c.owner as usize);
             }
         }
-        Ok(())
     }
 }

@@ -273,24 +273,30 @@ fn four_results<S: Isa>(
     let x2 = V4::<S>::gather(|l| p[partner(l)]);
     let v1 = V4::<S>::gather(|l| v[owner[l]]);
     let v2 = V4::<S>::gather(|l| v[partner(l)]);
-    results_of_four(law, [x1, x2], [v1, v2], c, out);
+    results_of_four(law, [x1, x2], [v1, v2], pointers_of(c), out);
 }
 
-/// What four contacts `c` exert with their monomers at `x` and moving at `v` (owners,
-/// partners), each into its place (`out`: the results and the four places). Returns the
-/// tangential part it evaluated, the twist it read and the relative velocity: what the
-/// contacts' step energies need besides the spins (booking_lanes.rs).
+/// The pointers and twist of four contacts, in lanes.
+#[inline(always)]
+pub(super) fn pointers_of<S: Isa>(c: [&PairContact; 4]) -> ([V4<S>; 2], F4<S>) {
+    let n1 = V4::<S>::gather(|l| c[l].n1);
+    let n2 = V4::<S>::gather(|l| c[l].n2);
+    let twist = F4::<S>::new([c[0].twist, c[1].twist, c[2].twist, c[3].twist]);
+    ([n1, n2], twist)
+}
+
+/// What four contacts with pointers `n` and twist `twist` exert with their monomers at `x`
+/// and moving at `v` (owners, partners), each into its place (`out`: the results and the four
+/// places). Returns the tangential part it evaluated and the relative velocity: what the
+/// contacts' step energies need besides the spins and the twist (booking_lanes.rs).
 #[inline(always)]
 pub(super) fn results_of_four<S: Isa>(
     law: &ContactLaw,
     [x1, x2]: [V4<S>; 2],
     [v1, v2]: [V4<S>; 2],
-    c: [&PairContact; 4],
+    ([n1, n2], twist): ([V4<S>; 2], F4<S>),
     (out, place): (&mut [PairResult], &[usize; 4]),
-) -> (TangentialLanes<S>, F4<S>, V4<S>) {
-    let n1 = V4::<S>::gather(|l| c[l].n1);
-    let n2 = V4::<S>::gather(|l| c[l].n2);
-    let twist = F4::<S>::new([c[0].twist, c[1].twist, c[2].twist, c[3].twist]);
+) -> (TangentialLanes<S>, V4<S>) {
     let g = pair_geometry_lanes(law, x1, x2, v1, v2);
     let (t, force) = pair_interaction_at_lanes(law, &g, n1, n2, twist);
     for (l, &p) in place.iter().enumerate() {
@@ -301,7 +307,7 @@ pub(super) fn results_of_four<S: Isa>(
             torque_partner: t.torque2.lane(l),
         };
     }
-    (t, twist, g.v_rel)
+    (t, g.v_rel)
 }
 
 /// `PairGeometry` of four contacts.

@@ -16,7 +16,9 @@
 use super::booking_lanes::{correct_and_book_four, Advanced};
 use super::corrections_lanes::{Found, Frame, Noted};
 use super::forces::PairResult;
-use super::forces_lanes::{result_at, results_of_four, ContactLanes, OwnerChunk, ResultPlaces};
+use super::forces_lanes::{
+    pointers_of, result_at, results_of_four, ContactLanes, OwnerChunk, ResultPlaces,
+};
 use super::integrate::integrate_pair_contact;
 #[cfg(target_arch = "x86_64")]
 use super::lanes::Avx2;
@@ -335,13 +337,17 @@ fn four_pairs<S: Isa>(
     correct_four(law, at, [x1, x2, v1, v2], [n1, n2, nc], bits, noted);
     // Not in a closure: one would be compiled apart from the lanes' AVX2 code.
     if let Some(out) = out {
-        let c = [
-            &rows[slot[0]],
-            &rows[slot[1]],
-            &rows[slot[2]],
-            &rows[slot[3]],
-        ];
-        results_of_four(law, [x1, x2], [v1, v2], c, out);
+        let pointers = if bits.iter().any(|&b| corrected_now(b)) {
+            pointers_of([
+                &rows[slot[0]],
+                &rows[slot[1]],
+                &rows[slot[2]],
+                &rows[slot[3]],
+            ])
+        } else {
+            ([n1, n2], twist)
+        };
+        results_of_four(law, [x1, x2], [v1, v2], pointers, out);
     }
     // The scan lists no owner for corrections after these (see `correct_one`).
     bits.map(|b| b & !PAIR_TEST_BEYOND)

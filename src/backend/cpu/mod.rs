@@ -6,8 +6,9 @@
 //! twist; the pair contacts' tests) → `neighbours`, `neighbours_list` (when stale) →
 //! `contacts_scan`, `contacts` (events, inelastic limits, wall contacts) → `forces` (monomer
 //! pairs) → `wall_forces` (gather, work), `reduce_walls_final` (wall forces). A run of steps
-//! (`run`) applies the pair contacts' inelastic limits in `integrate_pairs` instead of
-//! `contacts` (`run_step_pass`) and joins each step's kick to the gather of the step before;
+//! (`run`) applies the pair contacts' inelastic limits and evaluates their forces in
+//! `integrate_pairs` instead of `contacts` and `forces`, runs `contacts_scan` and `contacts`
+//! in one sweep (`run_step_pass`) and joins each step's kick to the gather of the step before;
 //! the passes one by one (`run_pass`) stay the device's, and both give the same bits.
 //!
 //! A leaf: it steps a [`State`] under the [`Engine`] contract and uses nothing of another

@@ -15,7 +15,7 @@ use crate::backend::script::{
     OWNER_CORRECTIONS, OWNER_EVENTS, OWNER_WALLS, PAIR_TEST_BEYOND, PAIR_TEST_BREAKS,
 };
 use crate::model::{wall as wall_law, ContactLaw};
-use crate::state::{ContactTable, Dissipation, Monomers, Wall};
+use crate::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
 use rayon::prelude::*;
 
 /// Lists the owners with work for the contacts pass into `work` (owner index | `OWNER_*` bits,
@@ -30,54 +30,175 @@ pub fn contacts_scan(
     pair_tests: &[u32],
     work: &mut Vec<u32>,
 ) {
-    list.rebuild_due = false;
-    if !list.partners_current {
-        mark_partners(list, table);
-    }
     let n = monomers.len();
-    let list = &*list;
-    let ps = table.pair_slots;
-    let prefetching = worthwhile(table);
-    let (lanes, planes) = (ContactLanes::chosen(), WallPlanes::new(walls));
+    let scan = Scan::new(law, monomers, walls, list, table);
+    let rows = RowsFrom::table(table);
     let chunks: Vec<Vec<u32>> = (0..n.div_ceil(CHUNK))
         .into_par_iter()
         .with_min_len(split_len(n, CHUNK))
-        .map(|chunk| {
-            let first = chunk * CHUNK;
-            let end = (first + CHUNK).min(n);
-            let mut items = Vec::new();
-            let mut touching_walls = [0u8; CHUNK];
-            let x = &monomers.position[first..end];
-            count_touching(lanes, walls, &planes, law.radius, x, &mut touching_walls);
-            for i in first..end {
-                if prefetching {
-                    // The owner's row (read for its partners) and its candidates' centres.
-                    let (rows, counts) = (&table.pair[first * ps..], &table.pair_count[first..end]);
-                    prefetch_row_ahead(rows, ps, counts, i - first);
-                    if let Some(ahead) = list.starts.get(i + PARTNERS_AHEAD + 1) {
-                        let from = list.starts[i + PARTNERS_AHEAD] as usize;
-                        for &(_, j) in &list.pairs[from..*ahead as usize] {
-                            prefetch_one(&monomers.position[j as usize]);
-                        }
-                    }
-                }
-                // The scan no longer reads the rows (marked partners are skipped); this hint
-                // still brings each row's first line toward the forces pass, which is 12–16 %
-                // faster for it where the row would otherwise come from the last-level cache.
-                if table.pair_count[i] > 0 {
-                    prefetch_one(&table.pair[i * ps]);
-                }
-                let tests = (pair_tests[i], touching_walls[i - first]);
-                if let Some(item) = owner_work(law, monomers, walls, list, table, tests, i) {
-                    items.push(item);
-                }
-            }
-            items
-        })
+        .map(|chunk| scan.chunk(&rows, pair_tests, chunk))
         .collect();
     work.clear();
     for c in chunks {
         work.extend(c);
+    }
+}
+
+/// What the scan of every chunk reads besides the rows.
+pub(super) struct Scan<'a> {
+    law: &'a ContactLaw,
+    monomers: &'a Monomers,
+    walls: &'a [Wall],
+    list: &'a NeighbourList,
+    lanes: ContactLanes,
+    planes: WallPlanes,
+    prefetching: bool,
+}
+
+impl<'a> Scan<'a> {
+    /// The scan of this step: the list is no longer due, and its partners are marked.
+    pub fn new(
+        law: &'a ContactLaw,
+        monomers: &'a Monomers,
+        walls: &'a [Wall],
+        list: &'a mut NeighbourList,
+        table: &ContactTable,
+    ) -> Scan<'a> {
+        list.rebuild_due = false;
+        if !list.partners_current {
+            mark_partners(list, table);
+        }
+        Scan {
+            law,
+            monomers,
+            walls,
+            list,
+            lanes: ContactLanes::chosen(),
+            planes: WallPlanes::new(walls),
+            prefetching: worthwhile(table),
+        }
+    }
+
+    /// The neighbour list the scan reads.
+    pub fn list(&self) -> &'a NeighbourList {
+        self.list
+    }
+
+    /// The work items of chunk `chunk`'s owners, by ascending owner (`rows` holds theirs).
+    pub fn chunk(&self, rows: &RowsFrom, pair_tests: &[u32], chunk: usize) -> Vec<u32> {
+        let (monomers, list) = (self.monomers, self.list);
+        let first = chunk * CHUNK;
+        let end = (first + CHUNK).min(monomers.len());
+        let mut items = Vec::new();
+        let mut touching_walls = [0u8; CHUNK];
+        let x = &monomers.position[first..end];
+        let (law, walls) = (self.law, self.walls);
+        count_touching(
+            self.lanes,
+            walls,
+            &self.planes,
+            law.radius,
+            x,
+            &mut touching_walls,
+        );
+        for i in first..end {
+            if self.prefetching {
+                // The owner's row (read for its partners) and its candidates' centres.
+                let (from, counts) = (rows.pairs_from(first), &rows.pair_counts(first..end));
+                prefetch_row_ahead(from, rows.pair_slots, counts, i - first);
+                if let Some(ahead) = list.starts.get(i + PARTNERS_AHEAD + 1) {
+                    let from = list.starts[i + PARTNERS_AHEAD] as usize;
+                    for &(_, j) in &list.pairs[from..*ahead as usize] {
+                        prefetch_one(&monomers.position[j as usize]);
+                    }
+                }
+            }
+            // The scan no longer reads the rows (marked partners are skipped); this hint
+            // still brings each row's first line toward the forces pass, which is 12–16 %
+            // faster for it where the row would otherwise come from the last-level cache.
+            if rows.pair_count(i) > 0 {
+                prefetch_one(&rows.pairs_from(i)[0]);
+            }
+            let tests = (pair_tests[i], touching_walls[i - first]);
+            if let Some(item) = owner_work(law, monomers, walls, list, rows, tests, i) {
+                items.push(item);
+            }
+        }
+        items
+    }
+}
+
+/// The contact table's rows of the owners from `first` on: the whole table's, or one chunk's
+/// (the contacts pass then changing them after the chunk's scan).
+pub(super) struct RowsFrom<'a> {
+    pub first: usize,
+    pub pair_slots: usize,
+    pub pair: &'a [PairContact],
+    pub pair_count: &'a [u32],
+    pub wall_slots: usize,
+    pub wall: &'a [WallContact],
+    pub wall_count: &'a [u32],
+}
+
+impl<'a> RowsFrom<'a> {
+    pub fn table(table: &'a ContactTable) -> Self {
+        RowsFrom {
+            first: 0,
+            pair_slots: table.pair_slots,
+            pair: &table.pair,
+            pair_count: &table.pair_count,
+            wall_slots: table.wall_slots,
+            wall: &table.wall,
+            wall_count: &table.wall_count,
+        }
+    }
+
+    /// The rows of one chunk's owners from `first` on, with the table's slots per owner.
+    pub fn chunk(
+        first: usize,
+        (pair, pair_count, wall, wall_count): (
+            &'a [PairContact],
+            &'a [u32],
+            &'a [WallContact],
+            &'a [u32],
+        ),
+        (pair_slots, wall_slots): (usize, usize),
+    ) -> Self {
+        RowsFrom {
+            first,
+            pair_slots,
+            pair,
+            pair_count,
+            wall_slots,
+            wall,
+            wall_count,
+        }
+    }
+
+    fn pairs_from(&self, i: usize) -> &'a [PairContact] {
+        &self.pair[(i - self.first) * self.pair_slots..]
+    }
+
+    fn pair_count(&self, i: usize) -> u32 {
+        self.pair_count[i - self.first]
+    }
+
+    fn pair_counts(&self, owners: std::ops::Range<usize>) -> &'a [u32] {
+        &self.pair_count[owners.start - self.first..owners.end - self.first]
+    }
+
+    fn wall_count(&self, i: usize) -> u32 {
+        self.wall_count[i - self.first]
+    }
+
+    fn walls_of(&self, i: usize) -> &'a [WallContact] {
+        let start = (i - self.first) * self.wall_slots;
+        &self.wall[start..start + self.wall_count(i) as usize]
+    }
+
+    fn has_pair(&self, i: usize, j: u32) -> bool {
+        let row = &self.pairs_from(i)[..self.pair_count(i) as usize];
+        row.iter().any(|c| c.partner == j)
     }
 }
 
@@ -88,7 +209,7 @@ fn owner_work(
     monomers: &Monomers,
     walls: &[Wall],
     list: &NeighbourList,
-    table: &ContactTable,
+    table: &RowsFrom,
     (tests, touching_walls): (u32, u8),
     i: usize,
 ) -> Option<u32> {
@@ -121,7 +242,7 @@ fn owner_work(
         });
     let forms_wall_contact = usize::from(touching_walls) > touching_wall_contacts;
     event |= forming || forms_wall_contact;
-    let wall_work = table.wall_count[i] > 0 || forms_wall_contact;
+    let wall_work = table.wall_count(i) > 0 || forms_wall_contact;
     let bits = if event { OWNER_EVENTS } else { 0 }
         | if beyond { OWNER_CORRECTIONS } else { 0 }
         | if wall_work { OWNER_WALLS } else { 0 };

@@ -18,9 +18,7 @@ use crate::state::interaction::{
     wall_geometry, wall_geometry_at_ratio, wall_interaction_at, wall_tangential_step_energy,
     WallMotion,
 };
-use crate::state::reduction::{
-    reduce_walls_block_of, reduce_walls_final_from, WallRows, REDUCE_BLOCK,
-};
+use crate::state::reduction::{add_wall_slots_of, reduce_walls_final_from, WallRows, REDUCE_BLOCK};
 use crate::state::{ContactTable, Dissipation, Monomers, Wall, WallContact};
 use glam::DVec3;
 use rayon::prelude::*;
@@ -207,8 +205,17 @@ pub fn wall_forces(
             )| {
                 let first = chunk * CHUNK;
                 let mut work = 0.0;
+                let results = &ws_ref.wall_result;
                 for k in 0..force.len() {
                     let i = first + k;
+                    let wall_rows = WallRows {
+                        rows,
+                        counts,
+                        slots: ws,
+                        first,
+                    };
+                    let block_sums = (&mut *sums, &mut *damping_sums);
+                    add_to_block_sums(wall_rows, results, k, block_sums);
                     let (f, fd, t) = gather(i, ws_ref, pair_counts[i], ws, counts[k]);
                     work += 0.5 * (damping[k] + fd).dot(velocity[k] * dt);
                     force[k] = f;
@@ -219,19 +226,6 @@ pub fn wall_forces(
                         let row = &mut rows[k * ws..k * ws + counts[k] as usize];
                         kick.kick((f, t), scales, (&mut velocity[k], &mut spin[k]), row, walls);
                     }
-                }
-                let results = &ws_ref.wall_result;
-                let rows = WallRows {
-                    rows,
-                    counts,
-                    slots: ws,
-                    first,
-                };
-                let blocks = sums.chunks_mut(stride).zip(damping_sums.chunks_mut(stride));
-                for (b, (s, d)) in blocks.enumerate() {
-                    let block = first / REDUCE_BLOCK + b;
-                    reduce_walls_block_of(rows, |idx| results[idx].force, block, s);
-                    reduce_walls_block_of(rows, |idx| results[idx].damping, block, d);
                 }
                 work
             },
@@ -244,6 +238,22 @@ pub fn wall_forces(
     workspace.damping_work = damping_work;
     workspace.wall_partials = partials;
     workspace.wall_damping_partials = damping_partials;
+}
+
+/// The chunk's `k`-th monomer's wall results added to its block's sums, force and damping
+/// (`sums` holds the chunk's blocks, one sum per wall each): `reduce_walls_block_of` monomer
+/// by monomer, as the gather reaches each.
+fn add_to_block_sums(
+    rows: WallRows,
+    results: &[WallResult],
+    k: usize,
+    (sums, damping_sums): (&mut [DVec3], &mut [DVec3]),
+) {
+    let stride = sums.len() / rows.counts.len().div_ceil(REDUCE_BLOCK);
+    let block = k / REDUCE_BLOCK * stride..(k / REDUCE_BLOCK + 1) * stride;
+    let i = rows.first + k;
+    add_wall_slots_of(rows, |s| results[s].force, i, &mut sums[block.clone()]);
+    add_wall_slots_of(rows, |s| results[s].damping, i, &mut damping_sums[block]);
 }
 
 /// The monomer arrays `wall_forces` writes (and, kicking, the velocities), and the scales it
