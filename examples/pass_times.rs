@@ -5,7 +5,8 @@
 //! --prepare-speed 0.25 --out bench` compressed (reusing its stored state, else preparing it);
 //! a third argument sets the steps timed (default 60), a fourth, `untallied`, stops booking
 //! the corrections' dissipation (`[output] tally_corrections = false`). The environment
-//! variable `PASS_TIMES_THREADS` sets the threads (default 1).
+//! variable `PASS_TIMES_THREADS` sets the threads (default 1); with `PASS_TIMES_WHOLE` set, it
+//! times the steps as `run` takes them instead, one figure per step.
 use dustdem::backend::script::STEP;
 use dustdem::bench::options::{Options, SampleState};
 use std::path::PathBuf;
@@ -54,6 +55,17 @@ fn main() {
     }
     pool.install(|| {
         e.run(100).unwrap();
+        if std::env::var("PASS_TIMES_WHOLE").is_ok() {
+            // The step as `run` takes it, passes joined: one figure per step.
+            let c = Instant::now();
+            e.run(steps as u64).unwrap();
+            println!(
+                "{:24} {:8.0} us",
+                "run",
+                c.elapsed().as_secs_f64() / steps as f64 * 1e6
+            );
+            return;
+        }
         let mut t = vec![0.0; STEP.len()];
         for _ in 0..steps {
             for (k, &p) in STEP.iter().enumerate() {

@@ -111,3 +111,25 @@ fn the_gpu_exact_mode_gives_the_cpu_bits() {
     // Both sum the per-slot wall forces in `reduce_walls`'s blocks.
     assert_eq!(cpu.wall_force, g.wall_force);
 }
+
+/// A run that fails (a monomer's position made NaN: it touches every wall, more than its wall
+/// slots hold) returns its error in a pool of two, whose other thread the run keeps awake, as
+/// in a pool of one (a keeper left spinning would hang it).
+#[test]
+fn a_failing_run_returns_its_error_with_the_pool_kept_awake() {
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut run = Compression::with_engine(&config(), CpuEngine::new).unwrap();
+            run.engine.run(10).unwrap();
+            let last = run.engine.monomers.len() - 1;
+            run.engine.monomers.position[last].x = f64::NAN;
+            let error = run.engine.run(100).unwrap_err();
+            let named = format!("monomer {last} ");
+            assert!(format!("{error}").contains(&named), "{threads}: {error}");
+        });
+    }
+}

@@ -48,7 +48,8 @@ use neighbours::NeighbourList;
 use rayon::prelude::*;
 use std::borrow::Cow;
 use std::ops::{Deref, DerefMut};
-use workspace::{split_len, Workspace, CHUNK};
+use std::sync::atomic::{AtomicBool, Ordering};
+use workspace::{split_len, Workspace, CHUNK, SERIAL_BELOW};
 
 /// The CPU backend: the state it steps, plus its own search structure (the neighbour list) and
 /// timings. It reads as its state (`engine.monomers`, `engine.step`, ...) through `Deref`.
@@ -92,6 +93,32 @@ fn timing_group(pass: Kernel) -> usize {
         e if e.starts_with("contacts") => 2,
         "forces" | "forces_corrections" => 3,
         _ => 4,
+    }
+}
+
+/// Marks a run's steps over ([`keep_awake`]'s `done`) when dropped.
+struct Ending<'a>(&'a AtomicBool);
+
+impl Drop for Ending<'_> {
+    fn drop(&mut self) {
+        self.0.store(true, Ordering::Release);
+    }
+}
+
+/// Runs the pool's pending jobs on the thread that takes this one, spinning between them, until
+/// `done`: between two passes of a run the pool's other thread then waits awake for the next
+/// pass's chunks instead of falling asleep at a pass's tail and being woken for the next one
+/// (on a virtual machine a wake-up can cost more than a small pass; DESIGN.md, "The CPU
+/// engine: a thread kept awake"). Taken by the runner's own thread (`runner`), it returns at
+/// once: that thread waits on nothing but its own passes.
+fn keep_awake(done: &AtomicBool, runner: Option<usize>) {
+    if rayon::current_thread_index() == runner {
+        return;
+    }
+    while !done.load(Ordering::Acquire) {
+        if rayon::yield_now() != Some(rayon::Yield::Executed) {
+            std::hint::spin_loop();
+        }
     }
 }
 
@@ -179,9 +206,25 @@ impl CpuEngine {
     /// Advances `steps` steps. The loop runs on a worker thread of the current rayon pool (the
     /// global one outside any pool): each pass's parallel work is then forked from inside the
     /// pool, not handed over from another thread, which costs a wake-up per pass and, at small
-    /// N, more than the pass itself.
+    /// N, more than the pass itself. The pool's other threads are kept awake meanwhile
+    /// ([`keep_awake`]), so that no pass waits for one to wake.
     pub fn run(&mut self, steps: u64) -> Result<(), EngineError> {
-        rayon::scope(|_| self.run_steps(steps, |_| {}))
+        let done = AtomicBool::new(false);
+        rayon::scope(|scope| {
+            let runner = rayon::current_thread_index();
+            // Below `SERIAL_BELOW` every pass runs on the runner: nothing to keep awake for.
+            let others = match self.monomers.len() >= SERIAL_BELOW {
+                true => rayon::current_num_threads() - 1,
+                false => 0,
+            };
+            for _ in 0..others {
+                let done = &done;
+                scope.spawn(move |_| keep_awake(done, runner));
+            }
+            // Ends the keeper however the steps end (an error, a panic): the scope waits for it.
+            let _ending = Ending(&done);
+            self.run_steps(steps, |_| {})
+        })
     }
 
     /// `steps` steps, each but the last with the next one's kick joined to its gather;
