@@ -28,15 +28,23 @@ fn config() -> Config {
     .unwrap()
 }
 
-fn run_in_pool(threads: usize) -> CpuEngine {
+/// `f` on the engine of [`config`], in a pool of `threads`.
+fn in_pool<R: Send>(threads: usize, f: impl FnOnce(CpuEngine) -> R + Send) -> R {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .unwrap();
     pool.install(|| {
-        let mut run = Compression::with_engine(&config(), CpuEngine::new).unwrap();
-        run.engine.run(STEPS).unwrap();
-        run.engine
+        f(Compression::with_engine(&config(), CpuEngine::new)
+            .unwrap()
+            .engine)
+    })
+}
+
+fn run_in_pool(threads: usize) -> CpuEngine {
+    in_pool(threads, |mut engine| {
+        engine.run(STEPS).unwrap();
+        engine
     })
 }
 
@@ -118,16 +126,11 @@ fn the_gpu_exact_mode_gives_the_cpu_bits() {
 #[test]
 fn a_failing_run_returns_its_error_with_the_pool_kept_awake() {
     for threads in [1, 2] {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
-            let mut run = Compression::with_engine(&config(), CpuEngine::new).unwrap();
-            run.engine.run(10).unwrap();
-            let last = run.engine.monomers.len() - 1;
-            run.engine.monomers.position[last].x = f64::NAN;
-            let error = run.engine.run(100).unwrap_err();
+        in_pool(threads, |mut engine| {
+            engine.run(10).unwrap();
+            let last = engine.monomers.len() - 1;
+            engine.monomers.position[last].x = f64::NAN;
+            let error = engine.run(100).unwrap_err();
             let named = format!("monomer {last} ");
             assert!(format!("{error}").contains(&named), "{threads}: {error}");
         });

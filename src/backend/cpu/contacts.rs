@@ -72,43 +72,20 @@ pub fn contacts(
     work: &[u32],
     workspace: &mut Workspace,
 ) -> Result<Vec<RowChange>, EngineError> {
-    let (ps, ws) = (table.pair_slots, table.wall_slots);
-    assert!(
-        ps <= MAX_PAIR_SLOTS,
-        "{ps} pair slots, at most {MAX_PAIR_SLOTS}"
-    );
-    let n = monomers.len();
-    let shared = Shared {
-        law,
-        dt,
+    let shared = Shared::new(
+        (law, dt),
         monomers,
         walls,
-        candidates,
-        starts,
-        books: (
-            tally.books_pair_corrections(),
-            tally.books_wall_corrections(),
-        ),
-        slots: (ps, ws),
-    };
-    workspace.size_wall_results(n * ws);
+        (candidates, starts),
+        table,
+        tally,
+    );
     let lanes = ContactLanes::chosen();
     // Owners are few and far between in the list, so rows are not prefetched here.
-    let chunks: Vec<Result<(Dissipation, Vec<RowChange>), EngineError>> = (
-        table.pair.par_chunks_mut(CHUNK * ps),
-        table.pair_count.par_chunks_mut(CHUNK),
-        table.wall.par_chunks_mut(CHUNK * ws),
-        table.wall_count.par_chunks_mut(CHUNK),
-        workspace.wall_result.par_chunks_mut(CHUNK * ws),
-    )
-        .into_par_iter()
-        .with_min_len(split_len(n, CHUNK))
-        .enumerate()
-        .map(|(chunk, rows)| {
-            let items = items_of(work, chunk * CHUNK, rows.1.len());
-            chunk_work(&shared, lanes, chunk, rows, items)
-        })
-        .collect();
+    let chunks = over_chunks(table, workspace, |chunk, rows| {
+        let items = items_of(work, chunk * CHUNK, rows.1.len());
+        chunk_work(&shared, lanes, chunk, rows, items)
+    });
     sum_chunks(chunks, tally)
 }
 
@@ -126,48 +103,19 @@ pub fn contacts_scanned(
     tally: &mut Dissipation,
     workspace: &mut Workspace,
 ) -> Result<Vec<RowChange>, EngineError> {
-    let (ps, ws) = (table.pair_slots, table.wall_slots);
-    assert!(
-        ps <= MAX_PAIR_SLOTS,
-        "{ps} pair slots, at most {MAX_PAIR_SLOTS}"
-    );
-    let n = monomers.len();
     let scan = Scan::new(law, monomers, walls, list, table);
     let list = scan.list();
-    let shared = Shared {
-        law,
-        dt,
-        monomers,
-        walls,
-        candidates: &list.pairs,
-        starts: &list.starts,
-        books: (
-            tally.books_pair_corrections(),
-            tally.books_wall_corrections(),
-        ),
-        slots: (ps, ws),
-    };
-    workspace.size_wall_results(n * ws);
-    let lanes = ContactLanes::chosen();
-    let pair_tests = &workspace.pair_tests;
-    type Done = Result<((Dissipation, Vec<RowChange>), Vec<u32>), EngineError>;
-    let chunks: Vec<Done> = (
-        table.pair.par_chunks_mut(CHUNK * ps),
-        table.pair_count.par_chunks_mut(CHUNK),
-        table.wall.par_chunks_mut(CHUNK * ws),
-        table.wall_count.par_chunks_mut(CHUNK),
-        workspace.wall_result.par_chunks_mut(CHUNK * ws),
-    )
-        .into_par_iter()
-        .with_min_len(split_len(n, CHUNK))
-        .enumerate()
-        .map(|(chunk, rows)| {
-            let before = (&*rows.0, &*rows.1, &*rows.2, &*rows.3);
-            let before = RowsFrom::chunk(chunk * CHUNK, before, (ps, ws));
-            let items = scan.chunk(&before, pair_tests, chunk);
-            chunk_work(&shared, lanes, chunk, rows, &items).map(|done| (done, items))
-        })
-        .collect();
+    let candidates = (&list.pairs[..], &list.starts[..]);
+    let shared = Shared::new((law, dt), monomers, walls, candidates, table, tally);
+    let (lanes, slots) = (ContactLanes::chosen(), shared.slots);
+    let pair_tests = std::mem::take(&mut workspace.pair_tests);
+    let chunks = over_chunks(table, workspace, |chunk, rows| {
+        let before = (&*rows.0, &*rows.1, &*rows.2, &*rows.3);
+        let before = RowsFrom::chunk(chunk * CHUNK, before, slots);
+        let items = scan.chunk(&before, &pair_tests, chunk);
+        chunk_work(&shared, lanes, chunk, rows, &items).map(|done| (done, items))
+    });
+    workspace.pair_tests = pair_tests;
     let mut done = Vec::with_capacity(chunks.len());
     workspace.work.clear();
     for c in chunks {
@@ -177,6 +125,61 @@ pub fn contacts_scanned(
         }));
     }
     sum_chunks(done, tally)
+}
+
+impl<'a> Shared<'a> {
+    /// What every owner's work reads (`candidates`: the neighbour-list pairs and where each
+    /// owner's begin); `table` must have at most [`MAX_PAIR_SLOTS`] pair slots.
+    fn new(
+        (law, dt): (&'a ContactLaw, f64),
+        monomers: &'a Monomers,
+        walls: &'a [Wall],
+        (candidates, starts): (&'a [(u32, u32)], &'a [u32]),
+        table: &ContactTable,
+        tally: &Dissipation,
+    ) -> Self {
+        let (ps, ws) = (table.pair_slots, table.wall_slots);
+        assert!(
+            ps <= MAX_PAIR_SLOTS,
+            "{ps} pair slots, at most {MAX_PAIR_SLOTS}"
+        );
+        Shared {
+            law,
+            dt,
+            monomers,
+            walls,
+            candidates,
+            starts,
+            books: (
+                tally.books_pair_corrections(),
+                tally.books_wall_corrections(),
+            ),
+            slots: (ps, ws),
+        }
+    }
+}
+
+/// `work` on each chunk of owners (its index and its rows of the table and wall results, the
+/// results sized first), in parallel; the chunks' outcomes in chunk order.
+fn over_chunks<R: Send>(
+    table: &mut ContactTable,
+    workspace: &mut Workspace,
+    work: impl Fn(usize, ChunkRows) -> R + Sync,
+) -> Vec<R> {
+    let (ps, ws, n) = (table.pair_slots, table.wall_slots, table.pair_count.len());
+    workspace.size_wall_results(n * ws);
+    (
+        table.pair.par_chunks_mut(CHUNK * ps),
+        table.pair_count.par_chunks_mut(CHUNK),
+        table.wall.par_chunks_mut(CHUNK * ws),
+        table.wall_count.par_chunks_mut(CHUNK),
+        workspace.wall_result.par_chunks_mut(CHUNK * ws),
+    )
+        .into_par_iter()
+        .with_min_len(split_len(n, CHUNK))
+        .enumerate()
+        .map(|(chunk, rows)| work(chunk, rows))
+        .collect()
 }
 
 /// The chunks' tallies added to `tally` in chunk order; the changed rows, by ascending owner.
