@@ -7,9 +7,12 @@
 //! index, by three straight lines over consecutive rows, each fitted on its own by least
 //! squares; the two breakpoints are those with the least total squared residual over all
 //! splits (exhaustive, O(n²) with prefix sums). The rows must be equally spaced in time,
-//! as a run writes them. The split is then checked against the paper's description:
-//! φ must stay within `phi_tol` of its first value through regime (i), and the plateau must
-//! rise more slowly in log₁₀P per unit φ than both neighbours by `plateau_ratio`.
+//! as a run writes them. Regime (i) is delimited by φ − φ₀ and by its rise: a first piece
+//! that rises no faster per row than the plateau is plateau (regime (i) then lies before the
+//! first row, as at high wall speed), and the rest is split in two. The split is then checked
+//! against the paper's description: φ must stay within `phi_tol` of its first value through
+//! regime (i), and the plateau must rise more slowly in log₁₀P per unit φ than both
+//! neighbours by `plateau_ratio`.
 
 #[cfg(test)]
 mod tests;
@@ -122,6 +125,27 @@ fn rows_of(lo: usize, hi: usize) -> Vec<f64> {
     (lo..hi).map(|i| i as f64).collect()
 }
 
+/// The breaks (a, b) with the least total squared residual of three lines over rows [0, a),
+/// [a, b), [b, n), for a in `first_breaks` and pieces two and three of at least `m` rows.
+fn best_split(
+    sums: &Sums,
+    n: usize,
+    m: usize,
+    first_breaks: std::ops::RangeInclusive<usize>,
+) -> (usize, usize) {
+    let mut best = (f64::INFINITY, 0, 0);
+    for a in first_breaks {
+        let first = sums.rss(0, a);
+        for b in a + m..=n - m {
+            let total = first + sums.rss(a, b) + sums.rss(b, n);
+            if total < best.0 {
+                best = (total, a, b);
+            }
+        }
+    }
+    (best.1, best.2)
+}
+
 /// Finds the regimes of `curve`, points (P [Pa], φ) in time order at equal time steps
 /// (rows with P ≤ 0 or not finite are left out of the fit). `None` with fewer than
 /// `min_first_rows + 2 · min_rows` usable rows.
@@ -138,27 +162,15 @@ pub fn find_regimes(curve: &[(f64, f64)], opt: &RegimeOptions) -> Option<Regimes
     let y: Vec<f64> = keep.iter().map(|&i| curve[i].0.log10()).collect();
     let phi: Vec<f64> = keep.iter().map(|&i| curve[i].1).collect();
     let sums = Sums::new(&y);
-    let mut best = (f64::INFINITY, 0, 0);
-    for a in m1..=n - 2 * m {
-        let first = sums.rss(0, a);
-        for b in a + m..=n - m {
-            let total = first + sums.rss(a, b) + sums.rss(b, n);
-            if total < best.0 {
-                best = (total, a, b);
-            }
-        }
-    }
-    let (_, mut a, mut b) = best;
-    // A falling first piece is the decay of the wall's impact spike, not regime (i): the
-    // pressure then reached the plateau within the first row, so split the rest in two.
-    if a >= 2 && line(&rows_of(0, a), &y[..a]).0 < 0.0 {
-        a = 0;
-        b = (m..=n - m)
-            .min_by(|&p, &q| {
-                let cost = |k: usize| sums.rss(0, k) + sums.rss(k, n);
-                cost(p).total_cmp(&cost(q))
-            })
-            .expect("n ≥ 2m");
+    let (mut a, mut b) = best_split(&sums, n, m, m1..=n - 2 * m);
+    // Regime (i) rises faster than the plateau. A first piece that does not (flat, or falling
+    // as the wall's impact spike decays) is plateau: the pressure reached the plateau within
+    // the first row, so split the rest in two. Without this a curve whose regime (i) is
+    // shorter than a row puts its first break at the knee of the steep rise and its second
+    // inside the rise.
+    let per_row = |lo: usize, hi: usize| line(&rows_of(lo, hi), &y[lo..hi]).0;
+    if a >= 2 && per_row(0, a) <= opt.plateau_ratio * per_row(a, b).abs() {
+        (a, b) = best_split(&sums, n, m, 0..=0);
     }
 
     let (plateau_slope, plateau_icpt) = line(&rows_of(a, b), &y[a..b]);

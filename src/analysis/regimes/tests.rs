@@ -185,3 +185,37 @@ fn an_impact_spike_decaying_into_the_plateau_is_not_regime_i() {
     assert!(r.three_regimes, "{r:?}");
     assert!((r.phi_rise_before_critical - (phi(1) - 0.15)).abs() < 1e-12);
 }
+
+/// A 5 m/s run whose first row already carries the plateau pressure (regime (i) shorter than
+/// a row, as at 5 m/s seed 3 of the paper tier) and whose steep rise curves upwards: rows
+/// 30 ns apart, log₁₀P rising 0.1 dex over the plateau's `KNEE` rows, then by 0.06 dex a
+/// row plus 0.002 dex times the square of the rows since the knee.
+fn knee_curve() -> Vec<(f64, f64)> {
+    const KNEE: usize = 250;
+    (0..300)
+        .map(|i| {
+            let phi = 0.15 * 60e-6 / (60e-6 - 5.0 * 30e-9 * i as f64);
+            let log_p = if i < KNEE {
+                4.0 + 0.1 * i as f64 / KNEE as f64
+            } else {
+                {
+                    let k = (i - KNEE) as f64;
+                    4.1 + 0.06 * k + 0.002 * k * k
+                }
+            };
+            (10f64.powf(log_p), phi)
+        })
+        .collect()
+}
+
+#[test]
+fn a_regime_i_shorter_than_a_row_puts_the_plateau_first_not_the_knee() {
+    let c = knee_curve();
+    let r = find_regimes(&c, &RegimeOptions::default()).unwrap();
+    // The plateau starts at the first row (its φ is the start's), the steep rise at the knee
+    // or a few rows into the rise's curved foot (row 260: 1.2 dex above the plateau), not
+    // at the knee's far side (regime (i) = the whole plateau).
+    assert!(r.plateau_start <= 1, "{r:?}");
+    assert!((250..=260).contains(&r.steep_start), "{r:?}");
+    assert!(r.three_regimes, "{r:?}");
+}
