@@ -109,6 +109,9 @@ pub struct LawFit<L> {
     /// reported errors (as in [`super::fit::fit_eq13`]).
     pub chi2_per_dof: f64,
     pub dof: usize,
+    /// Factor the σ-based errors were multiplied by for the scatter about the law
+    /// (√(χ²/dof) where that exceeds 1, see `law_checks`); 1 as fitted.
+    pub error_scale: f64,
     pub iterations: usize,
     pub converged: bool,
 }
@@ -253,6 +256,7 @@ fn finish(
             free: idx.iter().map(|&j| NAMES[j]).collect(),
             chi2_per_dof,
             dof,
+            error_scale: 1.0,
             iterations,
             converged,
         },
@@ -286,6 +290,7 @@ fn dress<L>(s: Solution, make: impl Fn(&[f64; 4]) -> L) -> LawFit<L> {
         free: f.free,
         chi2_per_dof: f.chi2_per_dof,
         dof: f.dof,
+        error_scale: f.error_scale,
         iterations: f.iterations,
         converged: f.converged,
     }

@@ -222,6 +222,12 @@ fn family_table(s: &mut String, f: &Family, kind: StudyKind) {
 
 fn law_line<L>(s: &mut String, name: &str, law: &Law<L>, show: impl Fn(&L, &L) -> String) {
     let text = match law {
+        Law::Fitted(f) if f.error_scale > 1.0 => format!(
+            "{} (χ²/dof {:.2}; errors × √(χ²/dof) = {:.2})",
+            show(&f.law, &f.std_err),
+            f.chi2_per_dof,
+            f.error_scale
+        ),
         Law::Fitted(f) => format!(
             "{} (χ²/dof {:.2})",
             show(&f.law, &f.std_err),
