@@ -9,3 +9,4 @@ pub mod per_speed;
 pub mod regimes;
 pub mod run_files;
 pub mod speed_laws;
+pub mod transient;

@@ -22,6 +22,7 @@ use crate::analysis::front::{
 use crate::analysis::per_speed::fit_fixed;
 use crate::analysis::regimes::{regimes_of_runs, RegimeOptions, RegimeSummary};
 use crate::analysis::run_files::CurveTable;
+use crate::analysis::transient::{impact_transient, Transient};
 use crate::job::figure::{BLUM_SCHRAEPLER_2004_UNI, GUETTLER_2009_OMNI};
 use std::collections::BTreeMap;
 
@@ -48,6 +49,8 @@ pub struct SpeedResult {
     /// Starting filling factor (the first row) over the seeds.
     pub phi0: Spread,
     pub mean_curve: Vec<FixedPhiPoint>,
+    /// The impact transient left out of the Eq. 13 fits (dynamic runs at v ≥ 1 m/s).
+    pub transient: Option<Transient>,
     /// φ₁, φ₂ held at the reference's values.
     pub fixed: Option<EnsembleFit>,
     /// φ₁ free, φ₂ held.
@@ -114,6 +117,10 @@ fn speed_result(kind: StudyKind, runs: Vec<&CaseRecord>) -> SpeedResult {
     let passage = average_on_log_grid(&run_rows, 8);
     let passage: Vec<(f64, f64)> = passage.iter().map(|a| (a.p, a.mean)).collect();
     let dynamic = kind == StudyKind::Dynamic && speed >= 1.0;
+    let mean_curve = average_at_fixed_phi(&curves, &grid);
+    let transient = dynamic.then(|| impact_transient(&mean_curve)).flatten();
+    // Eq. 13 is fitted from the end of the transient on; the mean curve keeps every point.
+    let fit_grid = transient.map_or_else(|| grid.clone(), |t| phi_grid(t.phi_from, 0.7, PHI_STEP));
     let [front_elapsed, front_robust, front_mass_balance, layer_phi] = if dynamic {
         fronts(&runs, speed)
     } else {
@@ -127,9 +134,10 @@ fn speed_result(kind: StudyKind, runs: Vec<&CaseRecord>) -> SpeedResult {
         speed,
         seeds: runs.iter().map(|r| r.entry.seed).collect(),
         phi0: spread(&phi0).expect("a group has a run"),
-        mean_curve: average_at_fixed_phi(&curves, &grid),
-        fixed: fit_ensemble(&curves, &grid, both).ok(),
-        phi1_free: fit_ensemble(&curves, &grid, phi1_free).ok(),
+        mean_curve,
+        transient,
+        fixed: fit_ensemble(&curves, &fit_grid, both).ok(),
+        phi1_free: fit_ensemble(&curves, &fit_grid, phi1_free).ok(),
         first_passage: fit_fixed(&passage, None, refc.phi1, refc.phi2).ok(),
         regimes: dynamic.then(|| {
             // Every row, the start's too: regime (i)'s φ rise counts from there.
