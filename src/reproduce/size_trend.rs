@@ -100,6 +100,7 @@ mod tests {
                 count: seeds,
             },
             mean_curve,
+            transient: None,
             fixed: None,
             phi1_free: None,
             first_passage: None,
