@@ -207,6 +207,8 @@ pub struct RegimeSummary {
     pub critical_pa: Option<Spread>,
     pub plateau_pa: Option<Spread>,
     pub phi_steep: Option<Spread>,
+    /// Over those runs: the plateau line's pressure at its end over that at its start.
+    pub plateau_rise: Option<Spread>,
 }
 
 /// [`find_regimes`] on each run's rows (P [Pa], φ) in time order, then over the runs. A seed
@@ -224,5 +226,6 @@ pub fn regimes_of_runs(runs: &[&[(f64, f64)]], opt: &RegimeOptions) -> RegimeSum
         critical_pa: over(|r| r.critical_pressure),
         plateau_pa: over(|r| r.plateau_pressure),
         phi_steep: over(|r| r.phi_at_steep_start),
+        plateau_rise: over(|r| r.plateau_end_pressure / r.critical_pressure),
     }
 }

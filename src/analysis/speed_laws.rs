@@ -42,6 +42,11 @@ impl Quadratic {
     pub fn eval(&self, v: f64) -> f64 {
         (self.a * v + self.b) * v + self.c
     }
+
+    /// Where the parabola turns, −b/(2a).
+    pub fn vertex(&self) -> f64 {
+        -self.b / (2.0 * self.a)
+    }
 }
 
 impl PowerLaw {

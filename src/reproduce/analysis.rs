@@ -63,6 +63,9 @@ pub struct SpeedResult {
     pub front_robust: Option<Spread>,
     pub front_mass_balance: Option<Spread>,
     pub layer_phi: Option<Spread>,
+    /// φ where each run first reaches 1 MPa (rows in time order, log P between rows), over
+    /// the seeds: the quasi-static runs stop there, beyond the fixed-φ grid's last point.
+    pub phi_at_mpa: Option<Spread>,
     pub wall_clock_s: f64,
 }
 
@@ -158,6 +161,12 @@ fn speed_result(kind: StudyKind, runs: Vec<&CaseRecord>) -> SpeedResult {
         front_robust,
         front_mass_balance,
         layer_phi,
+        phi_at_mpa: spread(
+            &run_rows
+                .iter()
+                .filter_map(|r| first_passage_phi(r, 1e6))
+                .collect::<Vec<_>>(),
+        ),
         wall_clock_s: runs.iter().map(|r| r.entry.wall_clock_s).sum(),
     }
 }
@@ -211,4 +220,27 @@ pub fn phi_at_pressure(curve: &[FixedPhiPoint], p: f64) -> Option<f64> {
     }
     let t = (p.log10() - lo.p_mean.log10()) / (hi.p_mean.log10() - lo.p_mean.log10());
     Some(lo.phi + t * (hi.phi - lo.phi))
+}
+
+/// φ where rows (P, φ) in time order first reach pressure `p`, linear in log P between the
+/// row before and the row that reaches it; `None` if no row does, or the first row does.
+pub fn first_passage_phi(rows: &[(f64, f64)], p: f64) -> Option<f64> {
+    let k = rows.iter().position(|r| r.0 >= p)?;
+    let (lo, hi) = (rows.get(k.checked_sub(1)?)?, rows[k]);
+    let t = (p.log10() - lo.0.log10()) / (hi.0.log10() - lo.0.log10());
+    Some(lo.1 + t * (hi.1 - lo.1))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_first_passage_of_a_pressure_is_read_in_log_pressure_between_rows() {
+        let rows = [(1e5, 0.50), (1e4, 0.49), (1e5, 0.51), (1e7, 0.53)];
+        // 1 MPa is half-way from 1e5 to 1e7 in log P: φ half-way from 0.51 to 0.53.
+        assert!((first_passage_phi(&rows, 1e6).unwrap() - 0.52).abs() < 1e-12);
+        assert_eq!(first_passage_phi(&rows, 1e8), None);
+        assert_eq!(first_passage_phi(&rows, 1e5), None);
+    }
 }

@@ -5,6 +5,9 @@
 //! verdicts on the paper's claims. Nothing here tunes the model: what comes out is reported.
 
 mod analysis;
+mod claims;
+mod claims_curves;
+mod claims_dynamic;
 mod figures;
 mod laws;
 mod report;
@@ -12,6 +15,7 @@ mod size_trend;
 pub mod store;
 mod tiers;
 mod verdicts;
+mod why;
 
 pub use tiers::{Study, StudyKind, Tier, Variant, CALIBRATED, UNMODIFIED};
 

@@ -2,13 +2,14 @@
 //! table of verdicts, the differences of method that remain, then the measurements of each
 //! study. Built from the tier's store alone, so the same store gives the same bytes.
 
-use super::analysis::{reference, Family, SpeedResult};
+use super::analysis::Family;
+use super::claims;
 use super::figures;
 use super::laws::{speed_laws, Law, Laws};
 use super::size_trend;
 use super::store::CaseRecord;
-use super::verdicts::{self, sig, Claim};
-use super::{Study, StudyKind, Tier, CALIBRATED, UNMODIFIED};
+use super::verdicts::{self, sig};
+use super::{Study, StudyKind, Tier};
 use crate::analysis::average::Spread;
 use crate::analysis::ensemble::EnsembleFit;
 use std::fmt::Write as _;
@@ -19,110 +20,6 @@ pub struct Analysed {
     pub study: Study,
     pub cases: Vec<CaseRecord>,
     pub families: Vec<Family>,
-}
-
-fn headline<'a>(a: &'a Analysed, variant: &str) -> Option<&'a Family> {
-    a.families
-        .iter()
-        .filter(|f| f.variant == variant)
-        .max_by_key(|f| f.monomers)
-}
-
-/// Our conditions for a claim resting on all speeds of `f` (the most seeds any speed has).
-fn conditions(f: &Family, a: &Analysed) -> String {
-    let seeds = f.speeds.iter().map(|s| s.seeds.len()).max().unwrap_or(0);
-    seeds_condition(f, a, seeds)
-}
-
-fn seeds_condition(f: &Family, a: &Analysed, seeds: usize) -> String {
-    let planned = a.study.seeds.len();
-    format!("ours: {} monomers, {seeds} of {planned} seeds", f.monomers)
-}
-
-fn study<'a>(all: &'a [Analysed], name: &str) -> Option<&'a Analysed> {
-    all.iter().find(|a| a.study.name == name)
-}
-
-fn speed_of(f: Option<&Family>, v: f64) -> Option<&SpeedResult> {
-    f?.speeds.iter().find(|s| s.speed == v)
-}
-
-/// Every claim of the paper, in the order of its Sect. 5.
-pub fn claims(all: &[Analysed]) -> Vec<Claim> {
-    let mut out = Vec::new();
-    for (name, kind) in [("quasi_static", "omni"), ("uni", "uni")] {
-        let Some(a) = study(all, name) else { continue };
-        let (ref_name, refc) = reference(a.study.kind);
-        let planned_slowest = a.study.speeds.iter().copied().fold(f64::INFINITY, f64::min);
-        let (soft, agree, cap, paper_cm_s) = if kind == "omni" {
-            (
-                "Quasi-static omni, unmodified model: softer than Güttler at low pressure",
-                "Quasi-static omni, calibrated model: agrees with Güttler below 100 kPa",
-                vec![1e2, 1e3, 1e4, 1e5],
-                1.0,
-            )
-        } else {
-            (
-                "Unidirectional, unmodified model: softer than Blum & Schräpler",
-                "Unidirectional, calibrated model: agrees with Blum & Schräpler below 10⁴ Pa",
-                vec![1e2, 1e3, 1e4],
-                5.0,
-            )
-        };
-        for (claim, variant, too_soft) in [
-            (soft, UNMODIFIED.name, true),
-            (agree, CALIBRATED.name, false),
-        ] {
-            let f = headline(a, variant);
-            // The slowest speed that finished (the paper's claims are quasi-static).
-            let slowest = f
-                .map(|f| {
-                    f.speeds
-                        .iter()
-                        .map(|s| s.speed)
-                        .fold(f64::INFINITY, f64::min)
-                })
-                .filter(|v| v.is_finite())
-                .unwrap_or(planned_slowest);
-            let paper = format!(
-                "{ref_name}; the paper at {paper_cm_s} cm/s, paper-size samples, 6 seeds; ours \
-                 at {} cm/s",
-                slowest * 100.0
-            );
-            let mut c = verdicts::curve_claim(
-                claim,
-                &paper,
-                speed_of(f, slowest),
-                (ref_name, &refc),
-                &cap,
-                too_soft,
-            );
-            if let Some(f) = f {
-                c.paper += &format!("; {}", conditions(f, a));
-            }
-            out.push(c);
-        }
-    }
-    for name in ["dynamic", "slow_dynamic"] {
-        let Some(a) = study(all, name) else { continue };
-        let Some(f) = headline(a, CALIBRATED.name) else {
-            continue;
-        };
-        let cond = format!("calibrated model; {}", conditions(f, a));
-        if name == "dynamic" {
-            out.push(verdicts::regimes_claim(f));
-            out.push(verdicts::front_claim(f));
-        }
-        // A claim at one speed names the seeds of that speed.
-        let at_speed = |seeds: usize| format!("calibrated model; {}", seeds_condition(f, a, seeds));
-        out.extend(verdicts::per_speed_claims(f, &at_speed));
-        let laws = speed_laws(f);
-        let all_laws = verdicts::law_claims(&laws, &cond);
-        // Eqs. 15–17 from the dynamic study, Eq. 14 and v_crit from the slow one.
-        let keep = if name == "dynamic" { 0..3 } else { 3..4 };
-        out.extend(all_laws.into_iter().take(keep.end).skip(keep.start));
-    }
-    out
 }
 
 fn pm_delta(e: &Option<EnsembleFit>) -> String {
@@ -423,9 +320,26 @@ pub fn markdown(
         store_bytes as f64 / 1e6
     );
     s += &conditions_table(tier);
+    let claims = claims::claims(all);
     s += "\n## Verdicts\n\n";
-    s += &verdicts::table(&claims(all));
+    s += &verdicts::table(&claims);
+    let sizes: Vec<String> = all
+        .iter()
+        .map(|a| format!("{} {}", thousands(a.study.paper_monomers), a.study.name))
+        .collect();
+    let _ = writeln!(
+        s,
+        "\nVerdicts per sample size. Only rows at the paper's own size for their study \
+         (monomers: {}) count towards the headline; smaller samples read differently (see \
+         the size checks in the last column).\n",
+        sizes.join(", ")
+    );
+    s += &verdicts::totals_table(&claims);
     s += "\n";
+    if let Some(summary) = claims::dynamic_summary(all) {
+        s += &summary;
+        s += "\n";
+    }
     s += include_str!("differences.md");
     if !speed_figures.is_empty() {
         s += "\n## p_m and Δ against wall speed\n\n";

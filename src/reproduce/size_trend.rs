@@ -109,6 +109,7 @@ mod tests {
             front_robust: None,
             front_mass_balance: None,
             layer_phi: None,
+            phi_at_mpa: None,
             wall_clock_s: 0.0,
         }
     }

@@ -68,6 +68,9 @@ pub struct Study {
     pub title: &'static str,
     /// Sample sizes, smallest first; the largest is the one the verdicts read.
     pub sizes: Vec<usize>,
+    /// The sample size Seizinger et al. (2012) used for this study: rows at other sizes are
+    /// counted apart from the headline.
+    pub paper_monomers: usize,
     pub speeds: Vec<f64>,
     pub seeds: Vec<u64>,
     /// The headline model first.
@@ -137,6 +140,8 @@ impl Tier {
             Study {
                 kind: StudyKind::QuasiStatic,
                 name: "quasi_static",
+                // Sect. 5.1: "≈ 11 000".
+                paper_monomers: 11_000,
                 title: "Quasi-static omnidirectional compression",
                 sizes: scale.quasi_static.0,
                 speeds: scale.quasi_static.1,
@@ -151,6 +156,8 @@ impl Tier {
             Study {
                 kind: StudyKind::Dynamic,
                 name: "dynamic",
+                // Sect. 5.2: "about 40000 particles".
+                paper_monomers: 40_000,
                 title: "Dynamic omnidirectional compression",
                 sizes: scale.dynamic.0,
                 speeds: scale.dynamic.1,
@@ -164,6 +171,8 @@ impl Tier {
             Study {
                 kind: StudyKind::Dynamic,
                 name: "slow_dynamic",
+                // not stated; "a higher number of particles" is used only above 1 m/s (Sect. 5.2), so the quasi-static samples.
+                paper_monomers: 11_000,
                 title: "Omnidirectional compression below 1 m/s",
                 sizes: scale.slow_dynamic.0,
                 speeds: scale.slow_dynamic.1,
@@ -177,6 +186,8 @@ impl Tier {
             Study {
                 kind: StudyKind::Uni,
                 name: "uni",
+                // Sect. 5.3, Fig. 15: 18 000.
+                paper_monomers: 18_000,
                 title: "Unidirectional compression",
                 sizes: scale.uni.0,
                 speeds: vec![scale.uni.1],

@@ -15,8 +15,10 @@ fn paper_constants_are_consistent_with_the_paper_text() {
     // At v = 0 the laws give the Güttler fit (p_m = 16.667 kPa, Δ = 0.562).
     assert_eq!(PAPER_PM_QUASI_STATIC.eval(0.0), 16.667);
     assert!((PAPER_DELTA.eval(0.0) - 0.562).abs() < 5e-4);
-    // The quadratic's minimum is the critical speed the paper quotes (≈ 0.9 m/s).
-    let vertex = -PAPER_PM_QUASI_STATIC.b / (2.0 * PAPER_PM_QUASI_STATIC.a);
+    // The quadratic's minimum, 33.663 / 36.592 = 0.91996 m/s by hand, is what the text
+    // rounds to "≈ 0.9 m/s".
+    let vertex = PAPER_PM_QUASI_STATIC.vertex();
+    assert!((vertex - 0.919955).abs() < 1e-6, "{vertex}");
     assert!((vertex - PAPER_V_CRIT).abs() < 0.05, "{vertex}");
     // Hand-evaluated values.
     assert!((PAPER_PM_QUASI_STATIC.eval(1.0) - 1.3).abs() < 1e-12);
