@@ -289,6 +289,11 @@ fn apply_found(law: &ContactLaw, c: &mut PairContact, found: Found) {
     }
 }
 
+/// The lanes in AVX2.
+///
+/// # Safety
+///
+/// The processor must have AVX2 (the caller checks `is_x86_feature_detected!`).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn correct_avx2(
@@ -387,6 +392,11 @@ struct Energies<'a> {
     frames: &'a [PairFrame],
 }
 
+/// The lanes in AVX2.
+///
+/// # Safety
+///
+/// The processor must have AVX2 (the caller checks `is_x86_feature_detected!`).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn energies_avx2(at: &Energies, states: &[EnergyOf], energies: &mut [f64]) {

@@ -213,6 +213,11 @@ pub(super) fn result_at(
     }
 }
 
+/// The lanes in AVX2.
+///
+/// # Safety
+///
+/// The processor must have AVX2 (the caller checks `is_x86_feature_detected!`).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn chunk_avx2(law: &ContactLaw, m: &Monomers, chunk: ForceChunk, results: ResultPlaces) {
@@ -311,10 +316,8 @@ pub(super) fn results_of_four<S: Isa>(
 }
 
 /// `PairGeometry` of four contacts.
-pub struct PairGeometryLanes<S: Isa> {
+pub(crate) struct PairGeometryLanes<S: Isa> {
     pub distance: F4<S>,
-    pub overlap_ratio: F4<S>,
-    pub radius_ratio: F4<S>,
     pub nc: V4<S>,
     pub normal: V4<S>,
     pub damping: V4<S>,
@@ -323,7 +326,7 @@ pub struct PairGeometryLanes<S: Isa> {
 
 /// Lane twin of `pair_geometry`.
 #[inline(always)]
-pub fn pair_geometry_lanes<S: Isa>(
+pub(crate) fn pair_geometry_lanes<S: Isa>(
     law: &ContactLaw,
     x1: V4<S>,
     x2: V4<S>,
@@ -343,8 +346,6 @@ pub fn pair_geometry_lanes<S: Isa>(
     let damping = nc.scale(-coefficient * v_rel.dot(nc));
     PairGeometryLanes {
         distance,
-        overlap_ratio,
-        radius_ratio: x,
         nc,
         normal,
         damping,
@@ -373,7 +374,7 @@ fn jkr_force_lanes<S: Isa>(x: F4<S>, f_c: f64) -> F4<S> {
 /// Lane twin of `pair_interaction_at`: the tangential part (with the torques on 1 and 2) and
 /// the force on 1 (its damping part is `g.damping`).
 #[inline(always)]
-pub fn pair_interaction_at_lanes<S: Isa>(
+pub(crate) fn pair_interaction_at_lanes<S: Isa>(
     law: &ContactLaw,
     g: &PairGeometryLanes<S>,
     n1: V4<S>,
@@ -387,7 +388,7 @@ pub fn pair_interaction_at_lanes<S: Isa>(
 
 /// The rolling, sliding and twisting part of four contacts' interaction, with the
 /// displacements it was made from.
-pub struct TangentialLanes<S: Isa> {
+pub(crate) struct TangentialLanes<S: Isa> {
     pub slide: V4<S>,
     pub torque1: V4<S>,
     pub torque2: V4<S>,
@@ -397,7 +398,7 @@ pub struct TangentialLanes<S: Isa> {
 
 /// Lane twin of `pair_tangential` (state/interaction.rs).
 #[inline(always)]
-pub fn pair_tangential_lanes<S: Isa>(
+pub(crate) fn pair_tangential_lanes<S: Isa>(
     law: &ContactLaw,
     nc: V4<S>,
     distance: F4<S>,
@@ -446,6 +447,11 @@ pub fn radius_ratios(lanes: ContactLanes, d: &mut [f64]) {
     }
 }
 
+/// The lanes in AVX2.
+///
+/// # Safety
+///
+/// The processor must have AVX2 (the caller checks `is_x86_feature_detected!`).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn radius_ratios_avx2(d: &mut [f64]) {
@@ -467,7 +473,7 @@ fn radius_ratios_in_lanes<S: Isa>(d: &mut [f64]) {
 /// Lane twin of `jkr_contact_radius_ratio`: Newton's method on every lane at once, each lane
 /// stopping where the scalar loop would (its value then held by the mask).
 #[inline(always)]
-pub fn jkr_contact_radius_ratio_lanes<S: Isa>(d: F4<S>) -> F4<S> {
+pub(crate) fn jkr_contact_radius_ratio_lanes<S: Isa>(d: F4<S>) -> F4<S> {
     let below = d.le(F4::<S>::splat(D_MIN));
     let mut y = newton_start_lanes(d);
     let mut active = M4::ALL.and_not(below);

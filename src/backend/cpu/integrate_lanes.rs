@@ -193,6 +193,11 @@ fn correct_one(
     tests & !PAIR_TEST_BEYOND
 }
 
+/// The lanes in AVX2.
+///
+/// # Safety
+///
+/// The processor must have AVX2 (the caller checks `is_x86_feature_detected!`).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn chunk_avx2(
@@ -429,7 +434,7 @@ fn test_pair_contact_lanes<S: Isa>(
 
 /// Lane twin of `rotate_pointer`: the same polynomials in θ², the same grouping.
 #[inline(always)]
-pub fn rotate_pointer_lanes<S: Isa>(n: V4<S>, w: V4<S>) -> V4<S> {
+pub(crate) fn rotate_pointer_lanes<S: Isa>(n: V4<S>, w: V4<S>) -> V4<S> {
     let t2 = w.dot(w);
     let sinc = 1.0
         - t2 * 0.16666666666666666

@@ -12,7 +12,7 @@ use super::lanes::{Isa, F4, M4, V4};
 /// Lane twin of `rolling_correction`: which lanes roll past ξ_crit (`|n₁ + n₂| R_red > ξ_crit`,
 /// a NaN counting as past), with their corrected pointers (meaningless where not set).
 #[inline(always)]
-pub fn rolling_correction_lanes<S: Isa>(
+pub(crate) fn rolling_correction_lanes<S: Isa>(
     n1: V4<S>,
     n2: V4<S>,
     reduced_radius: f64,
@@ -42,7 +42,7 @@ fn sliding_displacement_lanes<S: Isa>(n1: V4<S>, n2: V4<S>, nc: V4<S>, r: f64) -
 /// Lane twin of `sliding_correction` for two monomers of radius `r`: which lanes slide past
 /// ζ_crit, with their corrected pointers (the given ones where not set).
 #[inline(always)]
-pub fn sliding_correction_lanes<S: Isa>(
+pub(crate) fn sliding_correction_lanes<S: Isa>(
     n1: V4<S>,
     n2: V4<S>,
     nc: V4<S>,

@@ -80,6 +80,11 @@ pub fn touching(overlap: f64) -> bool {
     overlap.partial_cmp(&0.0) != Some(std::cmp::Ordering::Less)
 }
 
+/// The lanes in AVX2.
+///
+/// # Safety
+///
+/// The processor must have AVX2 (the caller checks `is_x86_feature_detected!`).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn count_avx2(planes: &WallPlanes, r: f64, x: &[DVec3], out: &mut [u8]) {
