@@ -4,12 +4,12 @@
 //! batch stop after different iterations), owners with 0 to 12 contacts (batches that span
 //! owners, a last batch of fewer than four), and each damping law.
 
-use dustdem::backend::cpu::corrections_lanes::{chunk_corrections, Noted};
-use dustdem::backend::cpu::forces::PairResult;
-use dustdem::backend::cpu::forces_lanes::{
-    chunk_forces, radius_ratios, ContactLanes, OwnerChunk, ResultPlaces,
-};
-use dustdem::backend::cpu::integrate_lanes::{chunk_pairs, PairChunk, StepForm};
+use dustdem::backend::cpu::lanes::ContactLanes;
+use dustdem::backend::cpu::law::corrections_lanes::{chunk_corrections, Noted};
+use dustdem::backend::cpu::law::forces_lanes::{chunk_forces, radius_ratios};
+use dustdem::backend::cpu::law::integrate_lanes::{chunk_pairs, PairChunk, StepForm};
+use dustdem::backend::cpu::law::results::PairResult;
+use dustdem::backend::cpu::law::results::{OwnerChunk, ResultPlaces};
 use dustdem::backend::cpu::prefetch::Prefetching;
 use dustdem::material::Material;
 use dustdem::model::normal::{jkr_contact_radius_ratio, D_MIN};

@@ -11,10 +11,10 @@
 //! added lane by lane in order, the order `Noted::book` adds them, so the tally has its bits.
 
 use super::corrections_lanes::{step_energy_of_tangential, tangential_step_energy_lanes, Frame};
-use super::forces::PairResult;
 use super::forces_lanes::{pointers_of, results_of_four};
-use super::lanes::{Isa, F4, V4};
 use super::limits_lanes::{rolling_correction_lanes, sliding_correction_lanes};
+use super::results::PairResult;
+use crate::backend::cpu::lanes::{Isa, F4, V4};
 use crate::model::{twisting, ContactLaw};
 use crate::state::{Dissipation, PairContact};
 

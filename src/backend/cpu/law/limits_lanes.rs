@@ -1,13 +1,13 @@
 //! The pair contacts' rolling and sliding limits four contacts at a time: the lane twins of
 //! `rolling_correction` (model/rolling.rs) and `sliding_correction` (model/sliding.rs).
 //!
-//! Each lane does its contact's scalar operations in the scalar order (lanes.rs), and the
+//! Each lane does its contact's scalar operations in the scalar order (lanes/four.rs), and the
 //! sliding correction's repeated step is masked as the JKR inversion's Newton loop is: a lane
 //! stops after the iteration at which the scalar loop breaks, its pointers then held. Lanes
 //! within a limit compute the corrected pointers too, and the mask discards them, so every
 //! lane ends with the scalar code's bits.
 
-use super::lanes::{Isa, F4, M4, V4};
+use crate::backend::cpu::lanes::{Isa, F4, M4, V4};
 
 /// Lane twin of `rolling_correction`: which lanes roll past ξ_crit (`|n₁ + n₂| R_red > ξ_crit`,
 /// a NaN counting as past), with their corrected pointers (meaningless where not set).
