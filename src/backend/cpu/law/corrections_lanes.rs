@@ -17,7 +17,7 @@
 //! energies were most of the contacts pass (DESIGN.md, "The CPU engine on many cores").
 
 use super::forces_lanes::{pair_tangential_lanes, TangentialLanes};
-use super::limits_lanes::{rolling_correction_lanes, sliding_correction_lanes};
+use super::limits_lanes::{limits_lanes, LimitsLanes};
 use crate::backend::cpu::chunking::CHUNK;
 use crate::backend::cpu::lanes::{in_lanes, ContactLanes, Isa, F4, V4};
 use crate::model::{rolling, sliding, twisting, ContactLaw};
@@ -352,7 +352,6 @@ fn correct_in_lanes<S: Isa>(
     pending: &mut [(usize, &mut PairContact)],
     noted: &mut Noted,
 ) {
-    let k = &law.pair;
     let (p, v) = (&m.position, &m.velocity);
     let mut batches = pending.chunks_exact_mut(4);
     for four in &mut batches {
@@ -361,11 +360,13 @@ fn correct_in_lanes<S: Isa>(
         let nc = (x1 - x2).normalize();
         let n1 = V4::<S>::gather(|l| four[l].1.n1);
         let n2 = V4::<S>::gather(|l| four[l].1.n2);
-        let (rolled, rolled_n1, rolled_n2) =
-            rolling_correction_lanes(n1, n2, k.reduced_radius, k.xi_crit);
-        let a = V4::select(rolled, rolled_n1, n1);
-        let b = V4::select(rolled, rolled_n2, n2);
-        let (slid, slid_n1, slid_n2) = sliding_correction_lanes(a, b, nc, law.radius, k.zeta_crit);
+        let LimitsLanes {
+            rolled,
+            rolled_n: [rolled_n1, rolled_n2],
+            slid,
+            slid_n: [slid_n1, slid_n2],
+            ..
+        } = limits_lanes(law, [n1, n2], nc);
         for (l, (i, c)) in four.iter_mut().enumerate() {
             let found = Found {
                 rolled: (rolled.0[l] != 0).then(|| (rolled_n1.lane(l), rolled_n2.lane(l))),

@@ -17,7 +17,7 @@
 use super::booking_lanes::{correct_and_book_four, Advanced};
 use super::corrections_lanes::{Found, Frame, Noted};
 use super::forces_lanes::{pointers_of, result_at, results_of_four};
-use super::limits_lanes::{rolling_correction_lanes, sliding_correction_lanes};
+use super::limits_lanes::{limits_lanes, LimitsLanes};
 use super::results::{OwnerChunk, PairResult, ResultPlaces};
 use crate::backend::cpu::lanes::{in_lanes, ContactLanes, Isa, F4, M4, V4};
 use crate::backend::script::{PAIR_TEST_BEYOND, PAIR_TEST_BREAKS};
@@ -401,12 +401,13 @@ fn correct_four<S: Isa>(
     } = four;
     // Corrections::found of the twin (corrections_lanes.rs) on the same values: the rolling
     // correction, then the sliding one on the pointers it left.
-    let k = &law.pair;
-    let (rolled, rolled_n1, rolled_n2) =
-        rolling_correction_lanes(n1, n2, k.reduced_radius, k.xi_crit);
-    let a = V4::select(rolled, rolled_n1, n1);
-    let b = V4::select(rolled, rolled_n2, n2);
-    let (slid, slid_n1, slid_n2) = sliding_correction_lanes(a, b, nc, law.radius, k.zeta_crit);
+    let LimitsLanes {
+        rolled,
+        rolled_n: [rolled_n1, rolled_n2],
+        slid,
+        slid_n: [slid_n1, slid_n2],
+        ..
+    } = limits_lanes(law, [n1, n2], nc);
     let frames = Frame::of(x1, x2, v1, v2);
     let set = |mask: M4<S>, l: usize| mask.0[l] != 0;
     for l in (0..4).filter(|&l| corrected_now(bits[l])) {
