@@ -1,7 +1,7 @@
 //! The lane choice from the command line: a run writes the same curve whichever lanes
 //! evaluate the contacts, and an unknown choice is refused before anything is written.
 
-use dustdem::backend::cpu::forces_lanes::ContactLanes;
+use dustdem::backend::cpu::lanes::ContactLanes;
 
 mod common;
 
@@ -24,10 +24,7 @@ fn run_with_lanes(dir: &std::path::Path, lanes: Option<&str>) -> std::process::O
     ]);
     command.arg(&out);
     if let Some(lanes) = lanes {
-        command.env(
-            dustdem::backend::cpu::forces_lanes::CONTACT_LANES_VAR,
-            lanes,
-        );
+        command.env(dustdem::backend::cpu::lanes::CONTACT_LANES_VAR, lanes);
     }
     command.output().unwrap()
 }

@@ -2,7 +2,7 @@
 //! GPU engine's exact float mode: a compression with contact events, inelastic corrections and
 //! wall contacts, 2000 steps in pools of 1, 2 and 3 threads and on the device.
 
-use dustdem::backend::cpu::workspace::SERIAL_BELOW;
+use dustdem::backend::cpu::chunking::SERIAL_BELOW;
 use dustdem::backend::cpu::CpuEngine;
 use dustdem::backend::gpu::context::context_for_tests;
 use dustdem::backend::gpu::engine::GpuEngine;

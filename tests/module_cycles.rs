@@ -1,11 +1,15 @@
 //! The layout's one-way flow, enforced: no cycles between the top-level modules of `src/`, the
 //! two backends never name each other, and the experiments name no backend (only `job` picks
-//! one).
+//! one). Within the backends the same holds one level down: no cycles between the modules of
+//! `src/backend`, of `src/backend/cpu` (the CPU engine's layers, DESIGN.md, "CPU engine
+//! layers") and of each folder below it.
 //!
 //! Every `crate::<path>` in `src/**/*.rs` counts, `use crate::{a, b::{c, d}}` groups included,
 //! comments and doc links too (a doc link is a dependency a reader follows). A file belongs to
 //! the top-level module of its first path component (`src/backend/gpu/engine/mod.rs` →
-//! `backend`); `main.rs` and `lib.rs` only declare and call modules.
+//! `backend`); `main.rs` and `lib.rs` only declare and call modules. Below the top level,
+//! `super::` and `self::` paths count as well, and in a file with child modules the paths that
+//! start with a child's name.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -89,20 +93,137 @@ fn tree_paths(text: &str) -> (Vec<Vec<String>>, usize) {
 
 /// Every path named after `crate::` in `text`.
 fn crate_paths(text: &str) -> Vec<Vec<String>> {
+    paths_after(text, "crate::", is_ident)
+        .into_iter()
+        .map(|(_, p)| p)
+        .collect()
+}
+
+/// Every path named after `start` (`crate::`, `super::`, `lanes::`, ...) where the character
+/// before it is not one that `joined` accepts (part of a longer name or path), with where it
+/// starts.
+fn paths_after(text: &str, start: &str, joined: fn(char) -> bool) -> Vec<(usize, Vec<String>)> {
     let mut paths = Vec::new();
     let mut from = 0;
-    while let Some(found) = text[from..].find("crate::") {
-        let start = from + found;
-        let preceded = text[..start].chars().next_back().is_some_and(is_ident);
-        from = start + "crate::".len();
+    while let Some(found) = text[from..].find(start) {
+        let at = from + found;
+        let preceded = text[..at].chars().next_back().is_some_and(joined);
+        from = at + start.len();
         if preceded {
             continue; // `dustdem_crate::` and the like
         }
         let (found, used) = tree_paths(&text[from..]);
-        paths.extend(found);
+        paths.extend(found.into_iter().map(|p| (at, p)));
         from += used.max(1).min(text.len() - from);
     }
     paths
+}
+
+/// The inline modules (`mod name { ... }`) of `text`: each one's name and the bytes its body
+/// spans. Braces in comments, strings and character literals are skipped.
+fn inline_modules(text: &str) -> Vec<(String, std::ops::Range<usize>)> {
+    let bytes = text.as_bytes();
+    let mut open: Vec<Option<(String, usize)>> = Vec::new();
+    let mut found = Vec::new();
+    let mut at = 0;
+    while at < bytes.len() {
+        let rest = &text[at..];
+        if rest.starts_with("//") {
+            at += rest.find('\n').unwrap_or(rest.len());
+        } else if rest.starts_with("/*") {
+            at += rest.find("*/").map_or(rest.len(), |e| e + 2);
+        } else if rest.starts_with('"') {
+            at += 1;
+            while at < bytes.len() && bytes[at] != b'"' {
+                at += if bytes[at] == b'\\' { 2 } else { 1 };
+            }
+            at += 1;
+        } else if rest.starts_with("'{'") || rest.starts_with("'}'") {
+            at += 3;
+        } else if rest.starts_with('{') {
+            // `mod name {`: the words before the brace.
+            let before: Vec<&str> = text[..at].split_whitespace().rev().take(2).collect();
+            let name = match before.as_slice() {
+                [name, "mod"] if name.chars().all(is_ident) => Some((name.to_string(), at + 1)),
+                _ => None,
+            };
+            open.push(name);
+            at += 1;
+        } else if rest.starts_with('}') {
+            if let Some(Some((name, start))) = open.pop() {
+                found.push((name, start..at));
+            }
+            at += 1;
+        } else {
+            at += rest.chars().next().map_or(1, char::len_utf8);
+        }
+    }
+    found
+}
+
+/// Part of a name or of a path before it (`super::super::`, `a::super`).
+fn in_path(c: char) -> bool {
+    is_ident(c) || c == ':'
+}
+
+/// The names of the modules a file declares as files or folders of its own: those in its
+/// folder for a `mod.rs`, in the folder of its name otherwise.
+fn children_of(file: &Path) -> Vec<String> {
+    let dir = match file.file_name().is_some_and(|n| n == "mod.rs") {
+        true => file.parent().unwrap().to_path_buf(),
+        false => file.with_extension(""),
+    };
+    let Ok(entries) = std::fs::read_dir(&dir) else {
+        return vec![];
+    };
+    let mut names: Vec<String> = entries
+        .map(|e| e.unwrap().path())
+        .filter_map(|p| match p.is_dir() {
+            true => Some(p.file_name()?.to_string_lossy().into_owned()),
+            false => (p.extension()? == "rs" && p.file_stem()? != "mod")
+                .then(|| p.file_stem().unwrap().to_string_lossy().into_owned()),
+        })
+        .collect();
+    names.sort();
+    names
+}
+
+/// Every module path a file at module `from` names, from the crate root: `crate::` paths,
+/// `super::` and `self::` ones resolved from `from` (and the inline modules they are in), and
+/// those outside inline modules that start with the name of one of `children` (the file's own
+/// child modules).
+fn resolved_paths(text: &str, from: &[String], children: &[String]) -> Vec<Vec<String>> {
+    let inline = inline_modules(text);
+    // The module of the text at `at`: the file's, then each inline module around it.
+    let module_at = |at: usize| -> Vec<String> {
+        let mut around: Vec<&(String, std::ops::Range<usize>)> =
+            inline.iter().filter(|(_, r)| r.contains(&at)).collect();
+        around.sort_by_key(|(_, r)| r.start);
+        from.iter()
+            .cloned()
+            .chain(around.iter().map(|(n, _)| n.clone()))
+            .collect()
+    };
+    let mut all = crate_paths(text);
+    for (at, path) in paths_after(text, "super::", in_path) {
+        let module = module_at(at);
+        let ups = 1 + path.iter().take_while(|p| *p == "super").count();
+        let base = &module[..module.len().saturating_sub(ups)];
+        let rest = path.iter().skip(ups - 1);
+        all.push(base.iter().chain(rest).cloned().collect());
+    }
+    for (at, path) in paths_after(text, "self::", in_path) {
+        all.push(module_at(at).into_iter().chain(path).collect());
+    }
+    for child in children {
+        for (at, path) in paths_after(text, &format!("{child}::"), in_path) {
+            if module_at(at).len() == from.len() {
+                let child = std::iter::once(child);
+                all.push(from.iter().chain(child).chain(&path).cloned().collect());
+            }
+        }
+    }
+    all
 }
 
 /// The module path of a file below `src/` (`backend/gpu/engine/mod.rs` → backend, gpu,
@@ -145,6 +266,104 @@ fn references() -> Vec<Reference> {
         }
     }
     all
+}
+
+/// Every reference of every file below `src/`, resolved to module paths from the crate root
+/// ([`resolved_paths`]), with the file's own module path.
+fn resolved_references() -> Vec<Reference> {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut all = Vec::new();
+    for file in rust_files(&src) {
+        let relative = file.strip_prefix(&src).unwrap();
+        let from = module_of(relative);
+        let text = std::fs::read_to_string(&file).unwrap();
+        for to in resolved_paths(&text, &from, &children_of(&file)) {
+            all.push(Reference {
+                file: relative.display().to_string(),
+                from: from.clone(),
+                to,
+            });
+        }
+    }
+    all
+}
+
+/// Edges between the modules directly below `parent` (each file or folder there is one node;
+/// the parent's own file, `mod.rs`, is another, holding what names the parent itself), each
+/// with one file that makes it. Every child is a node, with or without edges.
+fn child_graph(refs: &[Reference], parent: &[&str]) -> BTreeMap<String, BTreeMap<String, String>> {
+    let dir = parent
+        .iter()
+        .fold(Path::new(env!("CARGO_MANIFEST_DIR")).join("src"), |d, p| {
+            d.join(p)
+        });
+    let own = match dir.join("mod.rs").exists() {
+        true => "mod.rs".to_string(),
+        false => format!("{}.rs", parent.last().unwrap()),
+    };
+    let children = children_of(&dir.join("mod.rs"));
+    let node = |path: &[String]| -> Option<String> {
+        if !starts_with(path, parent) {
+            return None;
+        }
+        match path.get(parent.len()) {
+            Some(child) if children.contains(child) => Some(child.clone()),
+            _ => Some(own.clone()),
+        }
+    };
+    let mut graph: BTreeMap<String, BTreeMap<String, String>> = BTreeMap::new();
+    for child in children.iter().chain([&own]) {
+        graph.entry(child.clone()).or_default();
+    }
+    for r in refs {
+        let (Some(from), Some(to)) = (node(&r.from), node(&r.to)) else {
+            continue;
+        };
+        if from != to {
+            graph
+                .entry(from)
+                .or_default()
+                .entry(to)
+                .or_insert_with(|| r.file.clone());
+        }
+    }
+    graph
+}
+
+/// Every cycle of `graph`, once each (rotated to start at its least module), each step with
+/// the file that makes it.
+fn cycles_of(graph: &BTreeMap<String, BTreeMap<String, String>>) -> Vec<String> {
+    let mut cycles = BTreeSet::new();
+    for module in graph.keys() {
+        if let Some(mut cycle) = cycle_through(graph, module) {
+            let first = cycle.iter().enumerate().min_by_key(|(_, m)| *m).unwrap().0;
+            cycle.rotate_left(first);
+            cycles.insert(cycle);
+        }
+    }
+    cycles
+        .iter()
+        .map(|cycle| {
+            let mut steps = Vec::new();
+            for (k, from) in cycle.iter().enumerate() {
+                let to = &cycle[(k + 1) % cycle.len()];
+                steps.push(format!("{from} → {to} ({})", graph[from][to]));
+            }
+            steps.join(", ")
+        })
+        .collect()
+}
+
+/// The graph as one line per module: `module → what it names`.
+fn describe(graph: &BTreeMap<String, BTreeMap<String, String>>) -> String {
+    graph
+        .iter()
+        .map(|(from, to)| {
+            let to: Vec<&str> = to.keys().map(String::as_str).collect();
+            format!("{from} → {}", to.join(", "))
+        })
+        .collect::<Vec<_>>()
+        .join("\n  ")
 }
 
 /// Edges between top-level modules, each with one file that makes it.
@@ -271,6 +490,73 @@ fn the_backends_are_leaves_and_the_experiments_name_none() {
             "the scan found no reference from job to backend::{backend}"
         );
     }
+}
+
+#[test]
+fn the_backends_and_the_cpu_engines_layers_have_no_cycles() {
+    let refs = resolved_references();
+    let mut parents = vec![
+        vec!["backend".to_string()],
+        vec!["backend".into(), "cpu".into()],
+    ];
+    // And every folder below the CPU engine (its layers' own modules).
+    let cpu = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/backend/cpu");
+    for entry in std::fs::read_dir(&cpu).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            let name = path.file_name().unwrap().to_string_lossy().into_owned();
+            parents.push(vec!["backend".into(), "cpu".into(), name]);
+        }
+    }
+    parents.sort();
+    let mut failures = Vec::new();
+    for parent in &parents {
+        let parent: Vec<&str> = parent.iter().map(String::as_str).collect();
+        let graph = child_graph(&refs, &parent);
+        let cycles = cycles_of(&graph);
+        if !cycles.is_empty() {
+            failures.push(format!(
+                "cycles between the modules of {}:\n  {}\nthe modules and what they name:\n  {}",
+                parent.join("::"),
+                cycles.join("\n  "),
+                describe(&graph)
+            ));
+        }
+    }
+    // The scan sees the CPU engine's modules: the executor runs the passes.
+    let cpu_graph = child_graph(&refs, &["backend", "cpu"]);
+    let edges: usize = cpu_graph.values().map(BTreeMap::len).sum();
+    assert!(cpu_graph.len() > 5 && edges > 5, "{cpu_graph:?}");
+    assert!(!cpu_graph["executor"].is_empty(), "{cpu_graph:?}");
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+#[test]
+fn relative_paths_are_resolved() {
+    let from: Vec<String> = ["backend", "cpu", "law", "forces"]
+        .map(String::from)
+        .to_vec();
+    let children = ["kernels".to_string()];
+    let text = "use super::lanes::{F4, V4};\nuse super::super::script::OWNER;\n\
+                let x = self::inner::f(); kernels::g(); not_kernels::h(); a::super::b;\n\
+                mod avx2 { use super::Isa; let s = \"}\"; } // }\n\
+                mod tests { use super::*; kernels::t(); }";
+    let found: Vec<String> = resolved_paths(text, &from, &children)
+        .iter()
+        .map(|p| p.join("::"))
+        .collect();
+    assert_eq!(
+        found,
+        [
+            "backend::cpu::law::lanes::F4",
+            "backend::cpu::law::lanes::V4",
+            "backend::cpu::script::OWNER",
+            "backend::cpu::law::forces::Isa",
+            "backend::cpu::law::forces::inner::f",
+            "backend::cpu::law::forces::kernels::g",
+        ],
+        "{found:?}"
+    );
 }
 
 #[test]

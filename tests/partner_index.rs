@@ -3,7 +3,7 @@
 //! results the step's pairs pass evaluated and the contacts pass moved are what a full forces
 //! pass gives.
 
-use dustdem::backend::cpu::forces::PairResult;
+use dustdem::backend::cpu::law::results::PairResult;
 use dustdem::backend::cpu::partner_index::PartnerIndex;
 use dustdem::backend::cpu::CpuEngine;
 use dustdem::backend::script::Kernel;

@@ -6,7 +6,7 @@
 // slots and tally, so one invocation per owner does all of it, in the CPU's order.
 
 // The inelastic corrections of owner `i`'s contacts: twin of apply_inelastic_limits in
-// src/backend/cpu/forces.rs.
+// src/backend/cpu/law/corrections_lanes.rs.
 fn apply_inelastic_limits(i: u32) {
     let k = params.pair;
     let r = params.radius;
@@ -63,7 +63,7 @@ fn apply_inelastic_limits(i: u32) {
 
 
 // The wall contacts of monomer `i`: inelastic limits (apply_wall_inelastic_limits in
-// src/backend/cpu/walls.rs), then forces, stored per slot for wall_forces. Few monomers touch a wall,
+// src/backend/cpu/law/walls.rs), then forces, stored per slot for wall_forces. Few monomers touch a wall,
 // and lavapipe would run this for every monomer of a SIMD group in which one does; hence a list.
 fn wall_contacts_of(i: u32) {
     let r = params.radius;

@@ -1,6 +1,6 @@
 // requires: bindings positions cells owner interaction wall rolling sliding twisting math
 //
-// Contact maintenance pass, twin of contacts in src/backend/cpu/contacts.rs: breaks stretched
+// Contact maintenance pass, twin of contacts in src/backend/cpu/passes/contacts.rs: breaks stretched
 // contacts (δ < −δ_c) and forms new ones (δ ≥ 0), keeping the history of every contact that
 // persists. One invocation per owner: it alone writes the owner's slots, so no two invocations
 // touch the same contact. Few owners have an event in a step, so a scan lists them and the

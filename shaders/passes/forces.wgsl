@@ -1,6 +1,6 @@
 // requires: bindings positions owner interaction rolling sliding twisting math
 //
-// Monomer–monomer force pass, twin of forces in src/backend/cpu/forces.rs: inelastic corrections
+// Monomer–monomer force pass, twin of forces in src/backend/cpu/passes/forces.rs: inelastic corrections
 // first (booked per channel as the drop of the contact's step energy), then JKR, damping,
 // rolling, sliding and twisting.
 //

@@ -1,6 +1,6 @@
 // requires: bindings positions wall_sums interaction pointer twisting math
 //
-// Leap-frog pass, twin of src/backend/cpu/integrate.rs: kick v(n−½) → v(n+½) with the forces at n, turn
+// Leap-frog pass, twin of src/backend/cpu/passes/integrate.rs: kick v(n−½) → v(n+½) with the forces at n, turn
 // contact pointers and advance twist integrals with the mid-step angular velocities, drift
 // positions and walls.
 //

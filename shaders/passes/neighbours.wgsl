@@ -1,6 +1,6 @@
 // requires: bindings positions cells math
 //
-// Neighbour passes, twin of src/backend/cpu/neighbours.rs: candidate lists (Verlet lists) of the pairs
+// Neighbour passes, twin of src/backend/cpu/passes/neighbours.rs: candidate lists (Verlet lists) of the pairs
 // within 2r + skin that are not in contact (the CPU's lists keep those too), rebuilt only when some monomer has moved more than half the skin since the
 // last build (integrate_drift raises FLAG_REBUILD and sizes their indirect dispatches);
 // otherwise they are dispatched with no workgroups.

@@ -1,10 +1,10 @@
 // requires: bindings owner interaction wall twisting math
 //
-// Monomer–wall force pass, twin of wall_forces in src/backend/cpu/walls.rs: the contacts pass
+// Monomer–wall force pass, twin of wall_forces in src/backend/cpu/passes/walls.rs: the contacts pass
 // evaluates the wall contacts of the monomers that have any (wall_contacts_of in
 // engine/owner.wgsl), and wall_forces gathers per monomer the forces pass's per-contact results
 // then the wall contacts' results, then does the step's work bookkeeping (the trapezoid sums
-// of wall_forces and reduce_walls_final in src/backend/cpu/walls.rs, its twins); its first
+// of wall_forces and reduce_walls_final in src/backend/cpu/passes/walls.rs, its twins); its first
 // invocations also sum the wall forces per block
 // (reduce_walls, whose twin is in src/state/reduction.rs).
 //
@@ -76,7 +76,7 @@ fn wall_forces(@builtin(global_invocation_id) id: vec3<u32>) {
         damping_power = damping_power + vec_dot(wd, travel);
     }
 
-    // Work over the step by the trapezoid rule (wall_forces in src/backend/cpu/walls.rs).
+    // Work over the step by the trapezoid rule (wall_forces in src/backend/cpu/passes/walls.rs).
     let s = aux[i];
     let fd_before = damping_force[i].xyz;
     add_tally(i, TALLY_DAMPING, -(0.5lf * vec_dot(fd_before + fd, v * params.dt)));

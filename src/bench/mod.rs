@@ -491,7 +491,7 @@ pub fn host() -> String {
                 .map(|m| m.trim().to_string())
         })
         .unwrap_or_else(|| "unknown CPU".into());
-    let lanes = crate::backend::cpu::forces_lanes::ContactLanes::chosen().describe();
+    let lanes = crate::backend::cpu::lanes::ContactLanes::chosen().describe();
     format!(
         "{model}, {} logical CPUs; CPU engine's contact law: {lanes}",
         Threads::All.resolve()

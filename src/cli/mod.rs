@@ -23,7 +23,7 @@ use std::process::ExitCode;
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     // A bad lane choice is refused before anything runs (the engine would fall back silently).
-    if let Err(e) = crate::backend::cpu::forces_lanes::ContactLanes::from_env() {
+    if let Err(e) = crate::backend::cpu::lanes::ContactLanes::from_env() {
         eprintln!("error: {e}");
         return ExitCode::from(2);
     }

@@ -54,7 +54,7 @@ mod reciprocal_tests {
         }
         let source = include_str!("pointer.rs");
         let shader = include_str!("../../shaders/model/pointer.wgsl");
-        let lanes = include_str!("../backend/cpu/integrate_lanes.rs");
+        let lanes = include_str!("../backend/cpu/law/integrate_lanes.rs");
         for (_, r) in written {
             let literal = format!("{r:?}");
             assert!(source.contains(&format!("t2 * {literal}")), "{literal}");

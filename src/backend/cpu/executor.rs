@@ -2,16 +2,16 @@
 //! function of its entry point's name, on the engine's state and workspace. The match covers
 //! every [`Kernel`], so an entry point added to the WGSL has no CPU engine until it has a twin.
 
-use super::contacts::{contacts, contacts_scanned};
-use super::forces::{forces, forces_corrections, forces_of_changed_rows};
-use super::integrate::{
+use super::partner_index::RowChange;
+use super::passes::contacts::{contacts, contacts_scanned};
+use super::passes::forces::{forces, forces_corrections, forces_of_changed_rows};
+use super::passes::integrate::{
     integrate_clear_work, integrate_drift, integrate_kick, integrate_pairs, integrate_pairs_step,
     integrate_start, NextKick,
 };
-use super::neighbours::{mark_partners_of, neighbours, neighbours_list};
-use super::partner_index::RowChange;
-use super::scan::{contacts_clear_tally, contacts_pair_tests, contacts_scan};
-use super::walls::{reduce_walls_final, wall_contacts, wall_forces};
+use super::passes::neighbours::{mark_partners_of, neighbours, neighbours_list};
+use super::passes::scan::{contacts_clear_tally, contacts_pair_tests, contacts_scan};
+use super::passes::walls::{reduce_walls_final, wall_contacts, wall_forces};
 use super::CpuEngine;
 use crate::backend::script::Kernel;
 use crate::engine::EngineError;
@@ -215,5 +215,61 @@ impl CpuEngine {
                 mark_partners_of(list, &s.contacts, c.owner as usize);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::backend::script::{OWNER_EVENTS, OWNER_WALLS};
+    use crate::material::Material;
+    use crate::model::{ContactLaw, ModelOptions, WallFactors};
+    use crate::state::{Monomers, Wall};
+    use glam::DVec3;
+
+    /// One monomer resting on the bottom wall (a contact at time 0) with a side wall 1 µm away.
+    fn corner() -> CpuEngine {
+        let law = ContactLaw::new(&Material::silicate(), &ModelOptions::default());
+        let r = law.radius;
+        let k = law.wall_constants(WallFactors::FULL);
+        let wall = |name: &str, point: DVec3, normal: DVec3| Wall {
+            name: name.into(),
+            point,
+            normal,
+            velocity: DVec3::ZERO,
+            constants: k,
+        };
+        let walls = vec![
+            wall(
+                "bottom",
+                DVec3::new(0.0, 0.0, -r + 0.5 * k.delta0),
+                DVec3::Z,
+            ),
+            wall("side", DVec3::new(r + 1e-4, 0.0, 0.0), -DVec3::X),
+        ];
+        let m = Monomers::new(vec![DVec3::ZERO]);
+        CpuEngine::new(law, 1e-10, m, walls, 12, 3).unwrap()
+    }
+
+    #[test]
+    fn a_monomer_touching_a_second_wall_is_listed_for_its_events_and_forms_the_contact() {
+        let mut e = corner();
+        assert_eq!(
+            e.contacts.wall_count[0], 1,
+            "the bottom contact from the start"
+        );
+        e.run_pass(Kernel::ContactsScan).unwrap();
+        assert_eq!(
+            e.workspace.work,
+            [OWNER_WALLS],
+            "touching the bottom only: walls, no events"
+        );
+        // The side wall moves onto the monomer: a second wall contact to form.
+        let r = e.law.radius;
+        e.state.walls[1].point.x = r - 1e-9;
+        e.run_pass(Kernel::ContactsScan).unwrap();
+        assert_eq!(e.workspace.work, [OWNER_EVENTS | OWNER_WALLS]);
+        e.run_pass(Kernel::Contacts).unwrap();
+        assert_eq!(e.contacts.wall_count[0], 2);
     }
 }

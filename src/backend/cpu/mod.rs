@@ -19,37 +19,39 @@
 //! results, per-monomer gathers in a fixed order, and sums over monomers per fixed chunk and
 //! then over chunks in order. So the state after any number of steps is the same to the bit
 //! for any thread count; one thread runs the same code.
+//!
+//! The modules are layers, each naming only those below it (tests/module_cycles.rs holds them
+//! to it; DESIGN.md, "CPU engine layers"):
+//!
+//! 1. `lanes/` (four f64 lanes, the choice of instructions), `chunking.rs` (the fixed
+//!    chunks), `prefetch.rs` (the hints), `memory.rs` (bytes of arrays);
+//! 2. `law/`: the contact law contact by contact, one at a time and four at a time;
+//! 3. `partner_index.rs`, `workspace.rs`: what the passes hand each other;
+//! 4. `passes/`: the passes of the step script (the neighbour list with its own);
+//! 5. `executor.rs` and this file: the engine that runs them.
 
-mod booking_lanes;
-pub mod contacts;
-pub mod corrections_lanes;
+pub mod chunking;
 mod executor;
-pub mod forces;
-pub mod forces_lanes;
-pub mod integrate;
-pub mod integrate_lanes;
 pub mod lanes;
-pub mod limits_lanes;
+pub mod law;
 pub mod memory;
-pub mod neighbours;
 pub mod partner_index;
+pub mod passes;
 pub mod prefetch;
-pub mod scan;
-pub mod wall_planes;
-pub mod walls;
 pub mod workspace;
 
 use crate::backend::script::{Kernel, START, STEP};
 use crate::engine::{Engine, EngineError, SKIN_RADII};
 use crate::model::ContactLaw;
 use crate::state::{simulated_time, EnergyReport, Monomers, State, Wall};
+use chunking::{split_len, CHUNK, SERIAL_BELOW};
 use glam::DVec3;
-use neighbours::NeighbourList;
+use passes::neighbours::NeighbourList;
 use rayon::prelude::*;
 use std::borrow::Cow;
 use std::ops::{Deref, DerefMut};
 use std::sync::atomic::{AtomicBool, Ordering};
-use workspace::{split_len, Workspace, CHUNK, SERIAL_BELOW};
+use workspace::Workspace;
 
 /// The CPU backend: the state it steps, plus its own search structure (the neighbour list) and
 /// timings. It reads as its state (`engine.monomers`, `engine.step`, ...) through `Deref`.
@@ -177,7 +179,7 @@ impl CpuEngine {
 
     /// One step of a run of several: `kicked` where the step before has done this one's kick
     /// (joined to its gather), `kick_next` to join the next step's kick to this one's gather
-    /// (`wall_forces` with a [`integrate::NextKick`]). A run ends on a step whose velocities are
+    /// (`wall_forces` with a [`passes::integrate::NextKick`]). A run ends on a step whose velocities are
     /// the leap-frog's v(n+½), as after [`Self::step`].
     fn step_joined(&mut self, kicked: bool, kick_next: bool) -> Result<(), EngineError> {
         let step = self.step;
@@ -309,7 +311,8 @@ impl CpuEngine {
 
 impl Engine for CpuEngine {
     fn host_bytes(&self) -> Option<u64> {
-        Some(memory::engine_bytes(self))
+        let (neighbours, workspace) = (self.neighbours.heap_bytes(), self.workspace.heap_bytes());
+        Some(memory::state_bytes(&self.state) + neighbours + workspace)
     }
     fn law(&self) -> &ContactLaw {
         &self.law

@@ -16,7 +16,8 @@
 //! full rebuild remains for a new or replaced table, for a monomer whose entries outgrow their
 //! room, and for a chunk whose spare places are used up.
 
-use super::workspace::CHUNK;
+use super::chunking::CHUNK;
+use super::memory::bytes;
 use crate::state::ContactTable;
 
 /// Spare places per monomer beyond the most entries any monomer had at the full rebuild, so
@@ -64,7 +65,7 @@ impl PartnerIndex {
             &self.chunk_free,
         ]
         .iter()
-        .map(|v| super::memory::bytes(v))
+        .map(|v| bytes(v))
         .sum()
     }
 

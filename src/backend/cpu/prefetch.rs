@@ -6,6 +6,9 @@
 //! round trip that the long per-contact arithmetic kept from overlapping with the next
 //! (DESIGN.md, "CPU engine: prefetching contact rows"). A hint changes no value, only when a
 //! line arrives, so results are bit-identical with or without it.
+//!
+//! The hints themselves, below the contact law; when the passes give them is theirs to
+//! decide (passes/prefetching.rs).
 
 /// Owners ahead of the current one whose partners' monomer data are requested: half of
 /// [`AHEAD`], so their rows (requested `AHEAD / 2` owners ago) have usually arrived.
@@ -16,25 +19,12 @@ pub const PARTNERS_AHEAD: usize = AHEAD / 2;
 /// near enough for the lines to stay in the first-level cache.
 pub const AHEAD: usize = 8;
 
-use super::forces::PairResult;
-use crate::state::{ContactTable, PairContact};
+use crate::state::PairContact;
 
 const LINE: usize = 64;
 
-/// Contact-table plus per-slot-result bytes from which the passes prefetch: the size of the
-/// last-level cache of the 2-core EPYC the choice was measured on (32 MiB). Below it the rows
-/// are in cache anyway and the hints cost: at 10⁴ monomers (19 MB) they made the forces pass
-/// 8 % slower; at 10⁵ (190 MB) they make every pass up to twice as fast.
-pub const FROM_BYTES: usize = 32 << 20;
-
-/// Whether the passes over `table` prefetch partners' data, and the scan at all (the answer
-/// changes no result, only the speed).
-pub fn worthwhile(table: &ContactTable) -> bool {
-    let per_slot = std::mem::size_of::<PairContact>() + std::mem::size_of::<PairResult>();
-    table.pair.len() * per_slot >= FROM_BYTES
-}
-
-/// What a per-contact pass (`integrate_pairs`, `forces`) prefetches a few owners ahead.
+/// What a per-contact pass (`integrate_pairs`, `forces`) prefetches a few owners ahead
+/// (passes/prefetching.rs decides).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Prefetching {
     Off,
@@ -43,23 +33,6 @@ pub enum Prefetching {
     /// The rows, and the partners' monomer data, whose indices are read from a row requested
     /// [`PARTNERS_AHEAD`] owners before: a load that waits where that row has not arrived.
     RowsAndPartners,
-}
-
-/// Contact-table bytes from which the per-contact passes prefetch rows: beyond a second-level
-/// cache (1 MiB on the EPYC measured). At 10⁴ monomers (7.7 MB, in the last-level cache) the
-/// rows alone made the pairs pass 16 % and the forces pass 22 % faster, where rows and
-/// partners together had made them slower (the partners' indices are loads, not hints).
-pub const ROWS_FROM_BYTES: usize = 1 << 20;
-
-/// What `integrate_pairs` and `forces` prefetch over `table`.
-pub fn for_contact_passes(table: &ContactTable) -> Prefetching {
-    if worthwhile(table) {
-        Prefetching::RowsAndPartners
-    } else if std::mem::size_of_val(&table.pair[..]) >= ROWS_FROM_BYTES {
-        Prefetching::Rows
-    } else {
-        Prefetching::Off
-    }
 }
 
 /// Asks for the cache lines of `items` (no-op on architectures without a stable hint).

@@ -1,59 +1,11 @@
-//! Scratch the CPU passes reuse from step to step: per-slot results, the partner index, and the
-//! fixed chunking that makes every sum independent of the thread count.
+//! What the passes hand each other and keep from step to step: per-slot results, the
+//! partner index, work lists and partial sums (the passes' results; the chunking they share
+//! is chunking.rs).
 
-use super::forces::PairResult;
+use super::law::results::{PairResult, WallResult};
+use super::memory::bytes;
 use super::partner_index::PartnerIndex;
-use super::walls::WallResult;
-use crate::state::Dissipation;
 use glam::DVec3;
-
-/// Monomers per unit of parallel work. Sums that leave the monomer loop (dissipation, work) are
-/// taken per chunk in monomer order and then over chunks in order: the chunks are fixed by this
-/// number, not by the threads, so the bits are the same for any thread count.
-pub const CHUNK: usize = 512;
-
-/// Below this many monomers every pass runs on the thread that calls it: handing a pass of a
-/// few microseconds to another thread costs about as much as the pass (at N = 1000 two
-/// threads were no faster than one). The results do not depend on it.
-pub const SERIAL_BELOW: usize = 4096;
-
-/// Least items per parallel split of a pass over `n` monomers whose items hold `unit`
-/// monomers each: one chunk's worth, or everything where `n` is below [`SERIAL_BELOW`].
-pub fn split_len(n: usize, unit: usize) -> usize {
-    if n < SERIAL_BELOW {
-        usize::MAX
-    } else {
-        (CHUNK / unit).max(1)
-    }
-}
-
-/// Splits `items` into consecutive parts, part `k` from `offsets[k]` to `offsets[k + 1]`
-/// (offsets ascending, the first 0): how a parallel pass hands each unit its own stretch of an
-/// output laid out by owner or by partner.
-pub fn split_at_offsets<T>(
-    mut items: &mut [T],
-    offsets: impl IntoIterator<Item = usize>,
-) -> Vec<&mut [T]> {
-    let mut offsets = offsets.into_iter();
-    let mut at = offsets.next().unwrap_or(0);
-    let mut parts = Vec::new();
-    for next in offsets {
-        let (part, tail) = items.split_at_mut(next - at);
-        parts.push(part);
-        items = tail;
-        at = next;
-    }
-    parts
-}
-
-/// Sums per-chunk tallies in chunk order.
-pub fn sum_in_order(chunks: &[Dissipation]) -> Dissipation {
-    let mut total = Dissipation::default();
-    for c in chunks {
-        total.add(c);
-    }
-    total
-}
 
 /// Everything the passes keep between steps besides the state.
 #[derive(Clone, Debug, Default)]
@@ -91,17 +43,15 @@ impl Workspace {
     pub fn size_wall_results(&mut self, len: usize) {
         self.wall_result.resize(len, WallResult::default());
     }
-}
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn parts_run_from_offset_to_offset() {
-        let mut items = [1, 2, 3, 4, 5];
-        let parts = split_at_offsets(&mut items, [0, 2, 2, 5]);
-        let parts: Vec<&[i32]> = parts.into_iter().map(|p| &*p).collect();
-        assert_eq!(parts, [&[1, 2][..], &[], &[3, 4, 5]]);
+    /// Heap bytes of its arrays (their capacities).
+    pub fn heap_bytes(&self) -> u64 {
+        bytes(&self.pair_result)
+            + self.incoming.heap_bytes()
+            + bytes(&self.wall_result)
+            + bytes(&self.pair_tests)
+            + bytes(&self.work)
+            + bytes(&self.wall_partials)
+            + bytes(&self.wall_damping_partials)
     }
 }

@@ -225,12 +225,12 @@ fn damping_tags_and_layout_match_the_host_encoding() {
 /// Where the CPU twins of the entry points are: the CPU backend's passes (the executor runs
 /// each by its entry point's name), and the fixed reduction order in the state.
 const CPU_TWIN_FILES: &[&str] = &[
-    "src/backend/cpu/integrate.rs",
-    "src/backend/cpu/neighbours.rs",
-    "src/backend/cpu/scan.rs",
-    "src/backend/cpu/contacts.rs",
-    "src/backend/cpu/forces.rs",
-    "src/backend/cpu/walls.rs",
+    "src/backend/cpu/passes/integrate.rs",
+    "src/backend/cpu/passes/neighbours.rs",
+    "src/backend/cpu/passes/scan.rs",
+    "src/backend/cpu/passes/contacts.rs",
+    "src/backend/cpu/passes/forces.rs",
+    "src/backend/cpu/passes/walls.rs",
     "src/backend/cpu/executor.rs",
     "src/state/reduction.rs",
     "src/state/rows.rs",

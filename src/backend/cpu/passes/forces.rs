@@ -2,7 +2,8 @@
 //! contact's step energy; the contacts pass applies them as the device does, the CPU step in
 //! `integrate_pairs_step`, `forces_corrections` alone in tests) and the force pass, JKR,
 //! damping, rolling, sliding and twisting: the twins of `forces_corrections` and `forces` in
-//! shaders/passes/forces.wgsl. The CPU step evaluates the forces in `integrate_pairs_step` too,
+//! shaders/passes/forces.wgsl. The law of one contact is law/corrections_lanes.rs and
+//! law/forces_lanes.rs; here, the passes over the contacts. The CPU step evaluates the forces in `integrate_pairs_step` too,
 //! and its `forces` only those of the rows the contact events changed
 //! ([`forces_of_changed_rows`]).
 //!
@@ -12,79 +13,17 @@
 //! thread adding contact by contact would sum them. So the forces do not depend on the thread
 //! count and equal the device's bits.
 
-use super::forces_lanes::{chunk_forces, scalar_result, ContactLanes, OwnerChunk, ResultPlaces};
-use super::prefetch::for_contact_passes;
-use super::workspace::{split_at_offsets, split_len, Workspace, CHUNK};
+use super::prefetching::for_contact_passes;
+use crate::backend::cpu::chunking::{split_at_offsets, split_len, CHUNK};
+use crate::backend::cpu::lanes::ContactLanes;
+use crate::backend::cpu::law::corrections_lanes::apply_inelastic_limits;
+use crate::backend::cpu::law::forces_lanes::{chunk_forces, scalar_result};
+use crate::backend::cpu::law::results::{OwnerChunk, PairResult, ResultPlaces};
+use crate::backend::cpu::workspace::Workspace;
 use crate::backend::script::{OWNER_CORRECTIONS, OWNER_INDEX};
-use crate::model::{rolling, sliding, twisting, ContactLaw};
-use crate::state::interaction::{pair_frame, pair_tangential_step_energy, PairFrame};
-use crate::state::{ContactTable, Dissipation, Monomers, PairContact};
-use glam::DVec3;
+use crate::model::ContactLaw;
+use crate::state::{ContactTable, Dissipation, Monomers};
 use rayon::prelude::*;
-
-/// What one pair contact exerts: the force on its owner, the damping part of it, and the
-/// torques on owner and partner.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct PairResult {
-    pub force: DVec3,
-    pub damping: DVec3,
-    pub torque_owner: DVec3,
-    pub torque_partner: DVec3,
-}
-
-/// Applies the inelastic limits to one contact in the order rolling, sliding, twisting.
-///
-/// Each correction books its dissipation as the drop of the contact's step energy. A correction
-/// moves pointers and twist, never the monomers, so only the tangential part of that energy
-/// changes ([`pair_tangential_step_energy`]); its states share the contact's [`PairFrame`],
-/// made at the first correction only (most contacts of a loose sample need none, and then
-/// nothing extra is evaluated), and one correction's "after" is the next one's "before".
-pub fn apply_inelastic_limits(
-    law: &ContactLaw,
-    monomers: &Monomers,
-    dt: f64,
-    i: usize,
-    c: &mut PairContact,
-    tally: &mut Dissipation,
-) {
-    let k = &law.pair;
-    let r = law.radius;
-    let j = c.partner as usize;
-    let (p, v, w) = (
-        &monomers.position,
-        &monomers.velocity,
-        &monomers.angular_velocity,
-    );
-    let nc = (p[i] - p[j]).normalize();
-    let mut frame: Option<PairFrame> = None;
-    let mut energy = |c: &PairContact| {
-        let f = *frame.get_or_insert_with(|| pair_frame(p[i], p[j], v[i], v[j]));
-        pair_tangential_step_energy(law, &f, w[i], w[j], dt, c)
-    };
-    // The step energy of the contact as it stands.
-    let mut current = None;
-    if let Some((n1, n2)) = rolling::rolling_correction(c.n1, c.n2, k.reduced_radius, k.xi_crit) {
-        let before = current.unwrap_or_else(|| energy(c));
-        c.n1 = n1;
-        c.n2 = n2;
-        let after = energy(c);
-        tally.rolling += before - after;
-        current = Some(after);
-    }
-    if let Some((n1, n2)) = sliding::sliding_correction(c.n1, c.n2, nc, r, r, k.zeta_crit) {
-        let before = current.unwrap_or_else(|| energy(c));
-        c.n1 = n1;
-        c.n2 = n2;
-        let after = energy(c);
-        tally.sliding += before - after;
-        current = Some(after);
-    }
-    if let Some(twist) = twisting::twisting_correction(c.twist, k.phi_crit) {
-        let before = current.unwrap_or_else(|| energy(c));
-        c.twist = twist;
-        tally.twisting += before - energy(c);
-    }
-}
 
 /// [`apply_inelastic_limits`] to every pair contact of the owners `contacts_scan` listed with
 /// [`OWNER_CORRECTIONS`], without their contact events: the step applies them in the contacts

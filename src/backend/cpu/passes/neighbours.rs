@@ -11,7 +11,8 @@
 //! have a capacity); the CPU sorts cell keys and keeps one sorted list of all pairs, partners
 //! included (the contacts pass skips them): the same candidates.
 
-use super::workspace::{split_at_offsets, split_len, CHUNK};
+use crate::backend::cpu::chunking::{split_at_offsets, split_len, CHUNK};
+use crate::backend::cpu::memory::bytes;
 use crate::state::ContactTable;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -43,6 +44,11 @@ pub struct NeighbourList {
 }
 
 impl NeighbourList {
+    /// Heap bytes of its arrays (their capacities), as `memory.rs` counts the state's.
+    pub fn heap_bytes(&self) -> u64 {
+        bytes(&self.pairs) + bytes(&self.starts) + bytes(&self.reference) + bytes(&self.cells)
+    }
+
     pub fn new(contact_distance: f64, skin: f64) -> Self {
         NeighbourList {
             contact_distance,

@@ -6,11 +6,13 @@
 //! pair tests of `integrate_pairs`), or wall contacts (before or after its events), with what
 //! the contacts pass does for it. Owners not listed have nothing to do there.
 
-use super::forces_lanes::ContactLanes;
 use super::neighbours::{mark_partners, NeighbourList};
-use super::prefetch::{prefetch_one, prefetch_row_ahead, worthwhile, PARTNERS_AHEAD};
-use super::wall_planes::{count_touching, touching, WallPlanes};
-use super::workspace::{split_len, CHUNK};
+use super::prefetching::worthwhile;
+use crate::backend::cpu::chunking::{split_len, CHUNK};
+use crate::backend::cpu::lanes::ContactLanes;
+use crate::backend::cpu::law::integrate_lanes::test_pair_contact;
+use crate::backend::cpu::law::wall_planes::{count_touching, touching, WallPlanes};
+use crate::backend::cpu::prefetch::{prefetch_one, prefetch_row_ahead, PARTNERS_AHEAD};
 use crate::backend::script::{
     OWNER_CORRECTIONS, OWNER_EVENTS, OWNER_WALLS, PAIR_TEST_BEYOND, PAIR_TEST_BREAKS,
 };
@@ -275,7 +277,7 @@ pub fn contacts_pair_tests(
     pair_tests.clear();
     pair_tests.extend((0..monomers.len()).map(|i| {
         table.pairs_of(i).iter().fold(0, |bits, c| {
-            bits | super::integrate::test_pair_contact(law, pos[i], pos[c.partner as usize], c)
+            bits | test_pair_contact(law, pos[i], pos[c.partner as usize], c)
         })
     }));
 }
@@ -288,58 +290,6 @@ pub fn contacts_clear_tally(tally: &mut Dissipation) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::backend::cpu::CpuEngine;
-    use crate::backend::script::Kernel;
-    use crate::material::Material;
-    use crate::model::{ModelOptions, WallFactors};
-    use crate::state::{Monomers, Wall};
-    use glam::DVec3;
-
-    /// One monomer resting on the bottom wall (a contact at time 0) with a side wall 1 µm away.
-    fn corner() -> CpuEngine {
-        let law = ContactLaw::new(&Material::silicate(), &ModelOptions::default());
-        let r = law.radius;
-        let k = law.wall_constants(WallFactors::FULL);
-        let wall = |name: &str, point: DVec3, normal: DVec3| Wall {
-            name: name.into(),
-            point,
-            normal,
-            velocity: DVec3::ZERO,
-            constants: k,
-        };
-        let walls = vec![
-            wall(
-                "bottom",
-                DVec3::new(0.0, 0.0, -r + 0.5 * k.delta0),
-                DVec3::Z,
-            ),
-            wall("side", DVec3::new(r + 1e-4, 0.0, 0.0), -DVec3::X),
-        ];
-        let m = Monomers::new(vec![DVec3::ZERO]);
-        CpuEngine::new(law, 1e-10, m, walls, 12, 3).unwrap()
-    }
-
-    #[test]
-    fn a_monomer_touching_a_second_wall_is_listed_for_its_events_and_forms_the_contact() {
-        let mut e = corner();
-        assert_eq!(
-            e.contacts.wall_count[0], 1,
-            "the bottom contact from the start"
-        );
-        e.run_pass(Kernel::ContactsScan).unwrap();
-        assert_eq!(
-            e.workspace.work,
-            [OWNER_WALLS],
-            "touching the bottom only: walls, no events"
-        );
-        // The side wall moves onto the monomer: a second wall contact to form.
-        let r = e.law.radius;
-        e.state.walls[1].point.x = r - 1e-9;
-        e.run_pass(Kernel::ContactsScan).unwrap();
-        assert_eq!(e.workspace.work, [OWNER_EVENTS | OWNER_WALLS]);
-        e.run_pass(Kernel::Contacts).unwrap();
-        assert_eq!(e.contacts.wall_count[0], 2);
-    }
 
     #[test]
     fn the_shortcut_for_far_candidates_never_changes_a_decision() {

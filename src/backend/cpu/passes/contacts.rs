@@ -8,13 +8,16 @@
 //! chunks, each summing its dissipation in owner order); a row's events are the same whatever
 //! the thread count.
 
-use super::corrections_lanes::chunk_corrections;
-use super::forces_lanes::{radius_ratios, ContactLanes};
 use super::neighbours::NeighbourList;
-use super::partner_index::RowChange;
 use super::scan::{RowsFrom, Scan};
-use super::walls::{wall_contacts_of, WallResult};
-use super::workspace::{split_len, sum_in_order, Workspace, CHUNK};
+use crate::backend::cpu::chunking::{split_len, sum_in_order, CHUNK};
+use crate::backend::cpu::lanes::ContactLanes;
+use crate::backend::cpu::law::corrections_lanes::chunk_corrections;
+use crate::backend::cpu::law::forces_lanes::radius_ratios;
+use crate::backend::cpu::law::results::WallResult;
+use crate::backend::cpu::law::walls::wall_contacts_of;
+use crate::backend::cpu::partner_index::RowChange;
+use crate::backend::cpu::workspace::Workspace;
 use crate::backend::script::{OWNER_CORRECTIONS, OWNER_EVENTS, OWNER_INDEX, OWNER_WALLS};
 use crate::engine::EngineError;
 use crate::model::{wall as wall_law, ContactLaw};

@@ -5,19 +5,18 @@
 //! parallel with the same bits for any thread count. The twins of the entry points of
 //! shaders/passes/integrate.wgsl, one function each.
 
-use super::corrections_lanes::Noted;
-use super::forces::PairResult;
-use super::forces_lanes::{ContactLanes, ResultPlaces};
-use super::integrate_lanes::{chunk_pairs, PairChunk, StepForm};
 use super::neighbours::NeighbourList;
-use super::prefetch::for_contact_passes;
-use super::workspace::{split_at_offsets, split_len, sum_in_order, Workspace, CHUNK};
-use crate::backend::script::{PAIR_TEST_BEYOND, PAIR_TEST_BREAKS};
+use super::prefetching::for_contact_passes;
+use crate::backend::cpu::chunking::{split_at_offsets, split_len, sum_in_order, CHUNK};
+use crate::backend::cpu::lanes::ContactLanes;
+use crate::backend::cpu::law::corrections_lanes::Noted;
+use crate::backend::cpu::law::integrate_lanes::{chunk_pairs, PairChunk, StepForm};
+use crate::backend::cpu::law::results::{PairResult, ResultPlaces};
+use crate::backend::cpu::workspace::Workspace;
 use crate::model::pointer::rotate_pointer;
 use crate::model::twisting::twist_increment;
 use crate::model::ContactLaw;
-use crate::state::interaction::beyond_limits;
-use crate::state::{ContactTable, Dissipation, Monomers, PairContact, Wall, WallContact};
+use crate::state::{ContactTable, Dissipation, Monomers, Wall, WallContact};
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -106,7 +105,7 @@ impl NextKick {
 /// and the positions before the drift; then the contact's tests for `contacts_scan`
 /// ([`test_pair_contact`]) at the positions the drift is about to store. Parallel over chunks
 /// of owners, the contacts of a chunk four at a time where the processor has vector lanes
-/// (`integrate_lanes.rs`, the same bits).
+/// (law/integrate_lanes.rs, the same bits).
 pub fn integrate_pairs(
     law: &ContactLaw,
     dt: f64,
@@ -229,45 +228,6 @@ fn pairs_pass(
             dissipated
         })
         .collect()
-}
-
-/// One pair contact of owner `i` through `integrate_pairs`: the twist integral and both
-/// pointers advanced, then its tests ([`test_pair_contact`]).
-#[inline]
-pub fn integrate_pair_contact(
-    law: &ContactLaw,
-    dt: f64,
-    m: &Monomers,
-    i: usize,
-    c: &mut PairContact,
-) -> u32 {
-    let (pos, vel, omega) = (&m.position, &m.velocity, &m.angular_velocity);
-    let j = c.partner as usize;
-    // Contact normal at mid-step, x(n+½) = x(n) + v(n+½) dt/2.
-    let nc_mid = ((pos[i] - pos[j]) + (vel[i] - vel[j]) * (0.5 * dt)).normalize();
-    c.twist += twist_increment(omega[i] - omega[j], nc_mid, dt);
-    c.n1 = rotate_pointer(c.n1, omega[i] * dt);
-    c.n2 = rotate_pointer(c.n2, omega[j] * dt);
-    test_pair_contact(law, pos[i] + vel[i] * dt, pos[j] + vel[j] * dt, c)
-}
-
-/// What `contacts_scan` needs to know of one pair contact, at the positions, pointers and twist
-/// the contact events will see: whether it breaks (δ < −δ_c, as the events test it) and whether
-/// it is beyond an inelastic limit ([`PAIR_TEST_BREAKS`], [`PAIR_TEST_BEYOND`]).
-#[inline]
-pub fn test_pair_contact(law: &ContactLaw, x1: DVec3, x2: DVec3, c: &PairContact) -> u32 {
-    let delta = 2.0 * law.radius - (x1 - x2).length();
-    let breaks = if delta < -law.pair.delta_c {
-        PAIR_TEST_BREAKS
-    } else {
-        0
-    };
-    let beyond = if beyond_limits(law, x1, x2, c) {
-        PAIR_TEST_BEYOND
-    } else {
-        0
-    };
-    breaks | beyond
 }
 
 /// Positions and walls; whether some monomer has moved more than half the skin since the

@@ -3,10 +3,7 @@
 //! scalar `wall_overlap`'s operations in its order, so the same values), then the scan's
 //! touching test lane by lane. With six walls the scalar loop was a third of the scan.
 
-use super::forces_lanes::ContactLanes;
-#[cfg(target_arch = "x86_64")]
-use super::lanes::Avx2;
-use super::lanes::{Isa, Portable, F4, M4, V4};
+use crate::backend::cpu::lanes::{in_lanes, ContactLanes, Isa, F4, M4, V4};
 use crate::model::wall as wall_law;
 use crate::state::Wall;
 use glam::DVec3;
@@ -55,35 +52,25 @@ pub fn count_touching(
     x: &[DVec3],
     out: &mut [u8],
 ) {
-    match lanes {
-        ContactLanes::Scalar => {
+    in_lanes!(
+        lanes,
+        count_in_lanes(planes, r, x, out)
+            as (planes: &WallPlanes, r: f64, x: &[DVec3], out: &mut [u8]),
+        scalar => {
             for (x, out) in x.iter().zip(out) {
                 let touching = walls
                     .iter()
                     .filter(|w| touching(wall_law::wall_overlap(*x, w.point, w.normal, r)));
                 *out = touching.count() as u8;
             }
-        }
-        #[cfg(target_arch = "x86_64")]
-        ContactLanes::Avx2 => {
-            assert!(std::arch::is_x86_feature_detected!("avx2"));
-            // SAFETY: the processor has AVX2 (checked above).
-            unsafe { count_avx2(planes, r, x, out) }
-        }
-        _ => count_in_lanes::<Portable>(planes, r, x, out),
-    }
+        },
+    )
 }
 
 /// An overlap that is not negative: touching, as the events test it (`!(δ < 0)`, so a NaN
 /// overlap counts, as in the WGSL).
 pub fn touching(overlap: f64) -> bool {
     overlap.partial_cmp(&0.0) != Some(std::cmp::Ordering::Less)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn count_avx2(planes: &WallPlanes, r: f64, x: &[DVec3], out: &mut [u8]) {
-    count_in_lanes::<Avx2>(planes, r, x, out)
 }
 
 #[inline(always)]

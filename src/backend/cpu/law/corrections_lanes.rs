@@ -1,5 +1,6 @@
-//! The pair contacts' inelastic corrections of one chunk of owners, four contacts at a time:
-//! `apply_inelastic_limits` (forces.rs) split into its three parts.
+//! The pair contacts' inelastic corrections: one contact at a time
+//! ([`apply_inelastic_limits`]), and those of one chunk of owners four contacts at a time, the
+//! same split into its three parts.
 //!
 //! 1. The rolling and sliding corrections found four contacts at a time (limits_lanes.rs),
 //!    then, per contact in order, applied with the twisting one exactly as the scalar code
@@ -15,17 +16,68 @@
 //! In a compressed sample most contacts of a flagged owner roll or slide every step, and these
 //! energies were most of the contacts pass (DESIGN.md, "The CPU engine on many cores").
 
-use super::forces::apply_inelastic_limits;
-use super::forces_lanes::{pair_tangential_lanes, ContactLanes, TangentialLanes};
-#[cfg(target_arch = "x86_64")]
-use super::lanes::Avx2;
-use super::lanes::{Isa, Portable, F4, V4};
-use super::limits_lanes::{rolling_correction_lanes, sliding_correction_lanes};
-use super::workspace::CHUNK;
+use super::forces_lanes::{pair_tangential_lanes, TangentialLanes};
+use super::limits_lanes::{limits_lanes, LimitsLanes};
+use crate::backend::cpu::chunking::CHUNK;
+use crate::backend::cpu::lanes::{in_lanes, ContactLanes, Isa, F4, V4};
 use crate::model::{rolling, sliding, twisting, ContactLaw};
 use crate::state::interaction::{pair_frame, pair_tangential_step_energy, PairFrame};
 use crate::state::{Dissipation, Monomers, PairContact};
 use glam::DVec3;
+
+/// Applies the inelastic limits to one contact in the order rolling, sliding, twisting.
+///
+/// Each correction books its dissipation as the drop of the contact's step energy. A correction
+/// moves pointers and twist, never the monomers, so only the tangential part of that energy
+/// changes ([`pair_tangential_step_energy`]); its states share the contact's [`PairFrame`],
+/// made at the first correction only (most contacts of a loose sample need none, and then
+/// nothing extra is evaluated), and one correction's "after" is the next one's "before".
+pub fn apply_inelastic_limits(
+    law: &ContactLaw,
+    monomers: &Monomers,
+    dt: f64,
+    i: usize,
+    c: &mut PairContact,
+    tally: &mut Dissipation,
+) {
+    let k = &law.pair;
+    let r = law.radius;
+    let j = c.partner as usize;
+    let (p, v, w) = (
+        &monomers.position,
+        &monomers.velocity,
+        &monomers.angular_velocity,
+    );
+    let nc = (p[i] - p[j]).normalize();
+    let mut frame: Option<PairFrame> = None;
+    let mut energy = |c: &PairContact| {
+        let f = *frame.get_or_insert_with(|| pair_frame(p[i], p[j], v[i], v[j]));
+        pair_tangential_step_energy(law, &f, w[i], w[j], dt, c)
+    };
+    // The step energy of the contact as it stands.
+    let mut current = None;
+    if let Some((n1, n2)) = rolling::rolling_correction(c.n1, c.n2, k.reduced_radius, k.xi_crit) {
+        let before = current.unwrap_or_else(|| energy(c));
+        c.n1 = n1;
+        c.n2 = n2;
+        let after = energy(c);
+        tally.rolling += before - after;
+        current = Some(after);
+    }
+    if let Some((n1, n2)) = sliding::sliding_correction(c.n1, c.n2, nc, r, r, k.zeta_crit) {
+        let before = current.unwrap_or_else(|| energy(c));
+        c.n1 = n1;
+        c.n2 = n2;
+        let after = energy(c);
+        tally.sliding += before - after;
+        current = Some(after);
+    }
+    if let Some(twist) = twisting::twisting_correction(c.twist, k.phi_crit) {
+        let before = current.unwrap_or_else(|| energy(c));
+        c.twist = twist;
+        tally.twisting += before - energy(c);
+    }
+}
 
 /// One state whose step energy the booking needs: contact `contact` of the chunk's corrected
 /// contacts as it stood then (its pointers and twist: a table slot, 64-byte aligned, would
@@ -102,22 +154,23 @@ pub fn chunk_corrections<'a>(
     // finds them.
     let mut noted = Noted::with_room_for(pending.len(), tally.is_some());
     let (p, v) = (&m.position, &m.velocity);
-    match lanes {
-        ContactLanes::Scalar => {
+    in_lanes!(
+        lanes,
+        correct_in_lanes(law, m, &mut pending, &mut noted)
+            as (
+                law: &ContactLaw,
+                m: &Monomers,
+                pending: &mut [(usize, &mut PairContact)],
+                noted: &mut Noted,
+            ),
+        scalar => {
             for (i, c) in pending {
                 let j = c.partner as usize;
                 let found = Found::at(law, p[i], p[j], c);
                 noted.apply(law, i, c, found, || pair_frame(p[i], p[j], v[i], v[j]));
             }
-        }
-        #[cfg(target_arch = "x86_64")]
-        ContactLanes::Avx2 => {
-            assert!(std::arch::is_x86_feature_detected!("avx2"));
-            // SAFETY: the processor has AVX2 (checked above).
-            unsafe { correct_avx2(law, m, &mut pending, &mut noted) }
-        }
-        _ => correct_in_lanes::<Portable>(law, m, &mut pending, &mut noted),
-    }
+        },
+    );
     if let Some(tally) = tally {
         noted.book(lanes, law, dt, m, tally);
     }
@@ -289,17 +342,6 @@ fn apply_found(law: &ContactLaw, c: &mut PairContact, found: Found) {
     }
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn correct_avx2(
-    law: &ContactLaw,
-    m: &Monomers,
-    pending: &mut [(usize, &mut PairContact)],
-    noted: &mut Noted,
-) {
-    correct_in_lanes::<Avx2>(law, m, pending, noted)
-}
-
 /// The corrections of the `pending` contacts (owner, contact), in order: their rolling and
 /// sliding corrections found four at a time (a last batch of fewer one at a time), then
 /// applied contact by contact.
@@ -310,7 +352,6 @@ fn correct_in_lanes<S: Isa>(
     pending: &mut [(usize, &mut PairContact)],
     noted: &mut Noted,
 ) {
-    let k = &law.pair;
     let (p, v) = (&m.position, &m.velocity);
     let mut batches = pending.chunks_exact_mut(4);
     for four in &mut batches {
@@ -319,11 +360,13 @@ fn correct_in_lanes<S: Isa>(
         let nc = (x1 - x2).normalize();
         let n1 = V4::<S>::gather(|l| four[l].1.n1);
         let n2 = V4::<S>::gather(|l| four[l].1.n2);
-        let (rolled, rolled_n1, rolled_n2) =
-            rolling_correction_lanes(n1, n2, k.reduced_radius, k.xi_crit);
-        let a = V4::select(rolled, rolled_n1, n1);
-        let b = V4::select(rolled, rolled_n2, n2);
-        let (slid, slid_n1, slid_n2) = sliding_correction_lanes(a, b, nc, law.radius, k.zeta_crit);
+        let LimitsLanes {
+            rolled,
+            rolled_n: [rolled_n1, rolled_n2],
+            slid,
+            slid_n: [slid_n1, slid_n2],
+            ..
+        } = limits_lanes(law, [n1, n2], nc);
         for (l, (i, c)) in four.iter_mut().enumerate() {
             let found = Found {
                 rolled: (rolled.0[l] != 0).then(|| (rolled_n1.lane(l), rolled_n2.lane(l))),
@@ -360,15 +403,12 @@ fn step_energies(
         contacts,
         frames,
     };
-    match lanes {
-        #[cfg(target_arch = "x86_64")]
-        ContactLanes::Avx2 => {
-            assert!(std::arch::is_x86_feature_detected!("avx2"));
-            // SAFETY: the processor has AVX2 (checked above).
-            unsafe { energies_avx2(&at, &states[..4 * batches], &mut energies) }
-        }
-        _ => energies_in_lanes::<Portable>(&at, &states[..4 * batches], &mut energies),
-    }
+    // The scalar choice too evaluates these four at a time, in the portable lanes.
+    in_lanes!(
+        lanes,
+        energies_in_lanes(&at, &states[..4 * batches], &mut energies)
+            as (at: &Energies, states: &[EnergyOf], energies: &mut [f64]),
+    );
     let w = &m.angular_velocity;
     for (k, s) in states.iter().enumerate().skip(4 * batches) {
         let Corrected { i, j } = contacts[s.contact];
@@ -385,12 +425,6 @@ struct Energies<'a> {
     m: &'a Monomers,
     contacts: &'a [Corrected],
     frames: &'a [PairFrame],
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn energies_avx2(at: &Energies, states: &[EnergyOf], energies: &mut [f64]) {
-    energies_in_lanes::<Avx2>(at, states, energies)
 }
 
 #[inline(always)]

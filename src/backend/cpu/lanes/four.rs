@@ -1,5 +1,5 @@
 //! Four f64 lanes ([`F4`]) and three-vectors of them ([`V4`]): the arithmetic of four contacts
-//! at once, for the contact law evaluated across contacts (`forces_lanes.rs`).
+//! at once, for the contact law evaluated across contacts (law/forces_lanes.rs).
 //!
 //! Every operation is the IEEE operation of each lane: + − × ÷ √ are correctly rounded in
 //! scalar and vector form alike, and nothing here fuses a multiply into an add. The [`V4`]
@@ -72,8 +72,10 @@ impl Isa for Portable {}
 ///
 /// Only code that runs where the processor has AVX2 may use it: inside the `#[target_feature
 /// (enable = "avx2")]` functions of the lane passes, which check `is_x86_feature_detected!`
-/// first. Its methods are safe to name but not to run elsewhere, so the type stays inside the
-/// CPU backend.
+/// first (`in_lanes!`, lanes/mod.rs). Its methods are safe to name but not to run elsewhere,
+/// so the type, and every function generic over [`Isa`], stay private to the crate: public
+/// code reaches AVX2 only through the passes' entry points, which take a `ContactLanes` and
+/// check the processor.
 #[cfg(target_arch = "x86_64")]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Avx2;

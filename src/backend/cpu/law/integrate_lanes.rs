@@ -1,12 +1,13 @@
-//! `integrate_pairs` four contacts at a time: the lane twin of `integrate_pair_contact`
-//! (integrate.rs), of `rotate_pointer` (model/pointer.rs) and of the tests `test_pair_contact`
-//! and `beyond_limits` make (state/interaction.rs).
+//! `integrate_pairs`' per-contact step: one contact at a time ([`integrate_pair_contact`],
+//! with its tests, [`test_pair_contact`]) and four at a time, the lane twin of
+//! `integrate_pair_contact`, of `rotate_pointer` (model/pointer.rs) and of the tests
+//! `test_pair_contact` and `beyond_limits` make (state/interaction.rs).
 //!
 //! As in forces_lanes.rs, each lane does its contact's scalar operations in the scalar order
-//! (lanes.rs), so pointers, twist and tests are the scalar code's bits; a pointer whose
+//! (lanes/four.rs), so pointers, twist and tests are the scalar code's bits; a pointer whose
 //! monomer does not spin is kept as it is, as the scalar code returns it.
 //!
-//! The step's form (`integrate_pairs_step`, integrate.rs, [`StepForm`]) also applies the
+//! The step's form (`integrate_pairs_step`, passes/integrate.rs, [`StepForm`]) also applies the
 //! inelastic corrections of each contact beyond a limit that does not break, here, where its
 //! pointers, positions and velocities are in the lanes already; the contacts pass would apply
 //! the same corrections to the same values after the drift (corrections_lanes.rs). Then it
@@ -15,19 +16,56 @@
 
 use super::booking_lanes::{correct_and_book_four, Advanced};
 use super::corrections_lanes::{Found, Frame, Noted};
-use super::forces::PairResult;
-use super::forces_lanes::{
-    pointers_of, result_at, results_of_four, ContactLanes, OwnerChunk, ResultPlaces,
-};
-use super::integrate::integrate_pair_contact;
-#[cfg(target_arch = "x86_64")]
-use super::lanes::Avx2;
-use super::lanes::{Isa, Portable, F4, M4, V4};
-use super::limits_lanes::{rolling_correction_lanes, sliding_correction_lanes};
+use super::forces_lanes::{pointers_of, result_at, results_of_four};
+use super::limits_lanes::{limits_lanes, LimitsLanes};
+use super::results::{OwnerChunk, PairResult, ResultPlaces};
+use crate::backend::cpu::lanes::{in_lanes, ContactLanes, Isa, F4, M4, V4};
 use crate::backend::script::{PAIR_TEST_BEYOND, PAIR_TEST_BREAKS};
+use crate::model::pointer::rotate_pointer;
+use crate::model::twisting::twist_increment;
 use crate::model::ContactLaw;
-use crate::state::interaction::pair_frame;
+use crate::state::interaction::{beyond_limits, pair_frame};
 use crate::state::{Dissipation, Monomers, PairContact};
+use glam::DVec3;
+
+/// One pair contact of owner `i` through `integrate_pairs`: the twist integral and both
+/// pointers advanced, then its tests ([`test_pair_contact`]).
+#[inline]
+pub fn integrate_pair_contact(
+    law: &ContactLaw,
+    dt: f64,
+    m: &Monomers,
+    i: usize,
+    c: &mut PairContact,
+) -> u32 {
+    let (pos, vel, omega) = (&m.position, &m.velocity, &m.angular_velocity);
+    let j = c.partner as usize;
+    // Contact normal at mid-step, x(n+½) = x(n) + v(n+½) dt/2.
+    let nc_mid = ((pos[i] - pos[j]) + (vel[i] - vel[j]) * (0.5 * dt)).normalize();
+    c.twist += twist_increment(omega[i] - omega[j], nc_mid, dt);
+    c.n1 = rotate_pointer(c.n1, omega[i] * dt);
+    c.n2 = rotate_pointer(c.n2, omega[j] * dt);
+    test_pair_contact(law, pos[i] + vel[i] * dt, pos[j] + vel[j] * dt, c)
+}
+
+/// What `contacts_scan` needs to know of one pair contact, at the positions, pointers and twist
+/// the contact events will see: whether it breaks (δ < −δ_c, as the events test it) and whether
+/// it is beyond an inelastic limit ([`PAIR_TEST_BREAKS`], [`PAIR_TEST_BEYOND`]).
+#[inline]
+pub fn test_pair_contact(law: &ContactLaw, x1: DVec3, x2: DVec3, c: &PairContact) -> u32 {
+    let delta = 2.0 * law.radius - (x1 - x2).length();
+    let breaks = if delta < -law.pair.delta_c {
+        PAIR_TEST_BREAKS
+    } else {
+        0
+    };
+    let beyond = if beyond_limits(law, x1, x2, c) {
+        PAIR_TEST_BEYOND
+    } else {
+        0
+    };
+    breaks | beyond
+}
 
 /// `integrate_pairs`' chunk of owners: it advances the rows in place.
 pub type PairChunk<'a> = OwnerChunk<'a, &'a mut [PairContact]>;
@@ -73,18 +111,19 @@ pub fn chunk_pairs(
     tests: &mut [u32],
     step: Option<StepForm>,
 ) {
-    match lanes {
-        ContactLanes::Scalar => chunk_scalar(law, dt, m, chunk, tests, step),
-        ContactLanes::Portable => chunk_in_lanes::<Portable>(law, dt, m, chunk, tests, step),
-        #[cfg(target_arch = "x86_64")]
-        ContactLanes::Avx2 => {
-            assert!(std::arch::is_x86_feature_detected!("avx2"));
-            // SAFETY: the processor has AVX2 (checked above).
-            unsafe { chunk_avx2(law, dt, m, chunk, tests, step) }
-        }
-        #[cfg(not(target_arch = "x86_64"))]
-        ContactLanes::Avx2 => chunk_in_lanes::<Portable>(law, dt, m, chunk, tests, step),
-    }
+    in_lanes!(
+        lanes,
+        chunk_in_lanes(law, dt, m, chunk, tests, step)
+            as (
+                law: &ContactLaw,
+                dt: f64,
+                m: &Monomers,
+                chunk: PairChunk,
+                tests: &mut [u32],
+                step: Option<StepForm>,
+            ),
+        scalar => chunk_scalar(law, dt, m, chunk, tests, step),
+    )
 }
 
 /// The step form's notes and whether it evaluates the forces.
@@ -191,19 +230,6 @@ fn correct_one(
     let found = Found::at(law, x1, x2, c);
     noted.apply(law, i, c, found, || pair_frame(x1, x2, v[i], v[j]));
     tests & !PAIR_TEST_BEYOND
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn chunk_avx2(
-    law: &ContactLaw,
-    dt: f64,
-    m: &Monomers,
-    chunk: PairChunk,
-    tests: &mut [u32],
-    step: Option<StepForm>,
-) {
-    chunk_in_lanes::<Avx2>(law, dt, m, chunk, tests, step)
 }
 
 /// The chunk's contacts in batches of four across owners; a last batch of fewer goes one at a
@@ -375,12 +401,13 @@ fn correct_four<S: Isa>(
     } = four;
     // Corrections::found of the twin (corrections_lanes.rs) on the same values: the rolling
     // correction, then the sliding one on the pointers it left.
-    let k = &law.pair;
-    let (rolled, rolled_n1, rolled_n2) =
-        rolling_correction_lanes(n1, n2, k.reduced_radius, k.xi_crit);
-    let a = V4::select(rolled, rolled_n1, n1);
-    let b = V4::select(rolled, rolled_n2, n2);
-    let (slid, slid_n1, slid_n2) = sliding_correction_lanes(a, b, nc, law.radius, k.zeta_crit);
+    let LimitsLanes {
+        rolled,
+        rolled_n: [rolled_n1, rolled_n2],
+        slid,
+        slid_n: [slid_n1, slid_n2],
+        ..
+    } = limits_lanes(law, [n1, n2], nc);
     let frames = Frame::of(x1, x2, v1, v2);
     let set = |mask: M4<S>, l: usize| mask.0[l] != 0;
     for l in (0..4).filter(|&l| corrected_now(bits[l])) {
@@ -429,7 +456,7 @@ fn test_pair_contact_lanes<S: Isa>(
 
 /// Lane twin of `rotate_pointer`: the same polynomials in θ², the same grouping.
 #[inline(always)]
-pub fn rotate_pointer_lanes<S: Isa>(n: V4<S>, w: V4<S>) -> V4<S> {
+pub(crate) fn rotate_pointer_lanes<S: Isa>(n: V4<S>, w: V4<S>) -> V4<S> {
     let t2 = w.dot(w);
     let sinc = 1.0
         - t2 * 0.16666666666666666

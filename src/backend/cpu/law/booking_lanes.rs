@@ -11,10 +11,10 @@
 //! added lane by lane in order, the order `Noted::book` adds them, so the tally has its bits.
 
 use super::corrections_lanes::{step_energy_of_tangential, tangential_step_energy_lanes, Frame};
-use super::forces::PairResult;
 use super::forces_lanes::{pointers_of, results_of_four};
-use super::lanes::{Isa, F4, V4};
-use super::limits_lanes::{rolling_correction_lanes, sliding_correction_lanes};
+use super::limits_lanes::{limits_lanes, LimitsLanes};
+use super::results::PairResult;
+use crate::backend::cpu::lanes::{Isa, F4, V4};
 use crate::model::{twisting, ContactLaw};
 use crate::state::{Dissipation, PairContact};
 
@@ -67,14 +67,13 @@ pub(super) fn correct_and_book_four<S: Isa>(
     let [n1, n2] = a.n;
     // Corrections::found of the twin on the same values: the rolling correction, then the
     // sliding one on the pointers it left.
-    let (rolled, rolled_n1, rolled_n2) =
-        rolling_correction_lanes(n1, n2, k.reduced_radius, k.xi_crit);
-    let after_roll = [
-        V4::select(rolled, rolled_n1, n1),
-        V4::select(rolled, rolled_n2, n2),
-    ];
-    let (slid, slid_n1, slid_n2) =
-        sliding_correction_lanes(after_roll[0], after_roll[1], a.nc, law.radius, k.zeta_crit);
+    let LimitsLanes {
+        rolled,
+        rolled_n: [rolled_n1, rolled_n2],
+        after_roll,
+        slid,
+        slid_n: [slid_n1, slid_n2],
+    } = limits_lanes(law, [n1, n2], a.nc);
     let mut had = [Had::default(); 4];
     for l in 0..4 {
         if !corrected[l] {

@@ -3,128 +3,20 @@
 //! `jkr_contact_radius_ratio` (model/normal.rs).
 //!
 //! Each lane does the operations of the scalar code for its contact in the same order
-//! (lanes.rs), and the JKR inversion's Newton iterations are masked: a lane that has converged
+//! (lanes/four.rs), and the JKR inversion's Newton iterations are masked: a lane that has converged
 //! (or stalled, or started below the branch end) keeps its value while the others iterate, so
 //! it stops after the same iteration as the scalar loop would. The results are the scalar
 //! code's to the bit, hence the GPU exact mode's; the tests hold them to that on contacts that
 //! need from zero to many iterations.
 
-use super::forces::PairResult;
-#[cfg(target_arch = "x86_64")]
-use super::lanes::Avx2;
-use super::lanes::{Isa, Portable, F4, M4, V4};
-use super::prefetch::{prefetch_one, prefetch_partners_ahead, prefetch_row_ahead, Prefetching};
+use super::results::{OwnerChunk, PairResult, ResultPlaces};
+use crate::backend::cpu::lanes::{in_lanes, ContactLanes, Isa, F4, M4, V4};
 use crate::model::damping::Damping;
 use crate::model::normal::{jkr_contact_radius_ratio, D_MIN, X_MIN, Y_MIN};
 use crate::model::ContactLaw;
 use crate::state::interaction::pair_interaction;
 use crate::state::{Monomers, PairContact};
 use glam::DVec3;
-use std::sync::OnceLock;
-
-/// How the force pass evaluates the contact law: one contact at a time, or four at a time in
-/// the target's baseline vector instructions (SSE2 on x86-64: two lanes per register) or in
-/// AVX2 (four per register), chosen at run time. All give the same bits.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ContactLanes {
-    Scalar,
-    Portable,
-    Avx2,
-}
-
-/// The environment variable that picks [`ContactLanes`] (`scalar`, `portable`, `avx2`), to
-/// measure one against another; unset, the best the processor has.
-pub const CONTACT_LANES_VAR: &str = "DUSTDEM_CONTACT_LANES";
-
-impl ContactLanes {
-    /// The best this processor runs.
-    pub fn detected() -> ContactLanes {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            return ContactLanes::Avx2;
-        }
-        ContactLanes::Portable
-    }
-
-    /// [`CONTACT_LANES_VAR`] if set (an error names the value and the choices, or says the
-    /// processor lacks it), else [`ContactLanes::detected`].
-    pub fn from_env() -> Result<ContactLanes, String> {
-        let Ok(value) = std::env::var(CONTACT_LANES_VAR) else {
-            return Ok(ContactLanes::detected());
-        };
-        let lanes = match value.as_str() {
-            "scalar" => ContactLanes::Scalar,
-            "portable" => ContactLanes::Portable,
-            "avx2" => ContactLanes::Avx2,
-            _ => {
-                return Err(format!(
-                    "{CONTACT_LANES_VAR}={value:?}: allowed are scalar, portable and avx2"
-                ))
-            }
-        };
-        if lanes == ContactLanes::Avx2 && ContactLanes::detected() != ContactLanes::Avx2 {
-            return Err(format!(
-                "{CONTACT_LANES_VAR}=avx2: this processor has no AVX2 (allowed: scalar, portable)"
-            ));
-        }
-        Ok(lanes)
-    }
-
-    /// What the engine runs: [`ContactLanes::from_env`], read once; an unusable setting falls
-    /// back to the detected lanes (the command line refuses it before any engine starts).
-    pub fn chosen() -> ContactLanes {
-        static CHOSEN: OnceLock<ContactLanes> = OnceLock::new();
-        *CHOSEN.get_or_init(|| ContactLanes::from_env().unwrap_or_else(|_| Self::detected()))
-    }
-
-    /// For reports: which instructions evaluate the contacts.
-    pub fn describe(self) -> &'static str {
-        match self {
-            ContactLanes::Scalar => "scalar f64, one contact at a time",
-            ContactLanes::Portable => "4 contacts at a time, baseline vector instructions",
-            ContactLanes::Avx2 => "4 contacts at a time, AVX2 (4 f64 lanes per register)",
-        }
-    }
-}
-
-/// One chunk of owners as a per-contact pass hands it over: their contact slots (`slots` per
-/// owner; `R` is `&[PairContact]` for the force pass, `&mut` for `integrate_pairs`), contacts
-/// per owner, the first owner's index, and whether to prefetch rows and partners ahead
-/// (`prefetch::worthwhile`).
-#[derive(Clone, Copy)]
-pub struct OwnerChunk<'a, R> {
-    pub rows: R,
-    pub slots: usize,
-    pub counts: &'a [u32],
-    pub first: usize,
-    pub prefetching: Prefetching,
-}
-
-impl<R: std::ops::Deref<Target = [PairContact]>> OwnerChunk<'_, R> {
-    /// Prefetches what owner `k` of the chunk will need a few owners from now: its partners'
-    /// positions and velocities, and their spins where `spins`.
-    #[inline(always)]
-    pub(super) fn prefetch_ahead(&self, m: &Monomers, k: usize, spins: bool) {
-        if self.prefetching != Prefetching::Off {
-            prefetch_row_ahead(&self.rows, self.slots, self.counts, k);
-        }
-        if self.prefetching == Prefetching::RowsAndPartners {
-            prefetch_partners_ahead(&self.rows, self.slots, self.counts, k, |j| {
-                prefetch_one(&m.position[j]);
-                prefetch_one(&m.velocity[j]);
-                if spins {
-                    prefetch_one(&m.angular_velocity[j]);
-                }
-            });
-        }
-    }
-
-    /// The slots of owner `k`'s contacts.
-    #[inline(always)]
-    pub(super) fn contacts_of(&self, k: usize) -> std::ops::Range<usize> {
-        k * self.slots..k * self.slots + self.counts[k] as usize
-    }
-}
 
 /// The force pass's chunk: it reads the rows.
 pub type ForceChunk<'a> = OwnerChunk<'a, &'a [PairContact]>;
@@ -137,18 +29,12 @@ pub fn chunk_forces(
     chunk: ForceChunk,
     results: ResultPlaces,
 ) {
-    match lanes {
-        ContactLanes::Scalar => chunk_scalar(law, m, chunk, results),
-        ContactLanes::Portable => chunk_in_lanes::<Portable>(law, m, chunk, results),
-        #[cfg(target_arch = "x86_64")]
-        ContactLanes::Avx2 => {
-            assert!(std::arch::is_x86_feature_detected!("avx2"));
-            // SAFETY: the processor has AVX2 (checked above).
-            unsafe { chunk_avx2(law, m, chunk, results) }
-        }
-        #[cfg(not(target_arch = "x86_64"))]
-        ContactLanes::Avx2 => chunk_in_lanes::<Portable>(law, m, chunk, results),
-    }
+    in_lanes!(
+        lanes,
+        chunk_in_lanes(law, m, chunk, results)
+            as (law: &ContactLaw, m: &Monomers, chunk: ForceChunk, results: ResultPlaces),
+        scalar => chunk_scalar(law, m, chunk, results),
+    )
 }
 
 /// One contact at a time: the reference the lanes are held to.
@@ -164,28 +50,7 @@ fn chunk_scalar(law: &ContactLaw, m: &Monomers, chunk: ForceChunk, results: Resu
     }
 }
 
-/// Where a chunk's per-contact results go: its stretch of them, and owner `k`'s first place
-/// in it, `starts[k] - base` (the partner index's places); without `starts`, the owners'
-/// results one after another.
-pub struct ResultPlaces<'a> {
-    pub results: &'a mut [PairResult],
-    pub starts: Option<&'a [u32]>,
-    pub base: u32,
-}
-
-impl ResultPlaces<'_> {
-    /// The first place of owner `k` of the chunk, `next` being the place after the owners
-    /// before it where they follow one another.
-    #[inline(always)]
-    pub fn owner(&self, k: usize, next: usize) -> usize {
-        match self.starts {
-            Some(starts) => (starts[k] - self.base) as usize,
-            None => next,
-        }
-    }
-}
-
-pub(super) fn scalar_result(
+pub(crate) fn scalar_result(
     law: &ContactLaw,
     m: &Monomers,
     i: usize,
@@ -211,12 +76,6 @@ pub(super) fn result_at(
         torque_owner,
         torque_partner,
     }
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn chunk_avx2(law: &ContactLaw, m: &Monomers, chunk: ForceChunk, results: ResultPlaces) {
-    chunk_in_lanes::<Avx2>(law, m, chunk, results)
 }
 
 /// The chunk's contacts in batches of four; a last batch of fewer goes one at a time.
@@ -311,10 +170,8 @@ pub(super) fn results_of_four<S: Isa>(
 }
 
 /// `PairGeometry` of four contacts.
-pub struct PairGeometryLanes<S: Isa> {
+pub(crate) struct PairGeometryLanes<S: Isa> {
     pub distance: F4<S>,
-    pub overlap_ratio: F4<S>,
-    pub radius_ratio: F4<S>,
     pub nc: V4<S>,
     pub normal: V4<S>,
     pub damping: V4<S>,
@@ -323,7 +180,7 @@ pub struct PairGeometryLanes<S: Isa> {
 
 /// Lane twin of `pair_geometry`.
 #[inline(always)]
-pub fn pair_geometry_lanes<S: Isa>(
+pub(crate) fn pair_geometry_lanes<S: Isa>(
     law: &ContactLaw,
     x1: V4<S>,
     x2: V4<S>,
@@ -343,8 +200,6 @@ pub fn pair_geometry_lanes<S: Isa>(
     let damping = nc.scale(-coefficient * v_rel.dot(nc));
     PairGeometryLanes {
         distance,
-        overlap_ratio,
-        radius_ratio: x,
         nc,
         normal,
         damping,
@@ -373,7 +228,7 @@ fn jkr_force_lanes<S: Isa>(x: F4<S>, f_c: f64) -> F4<S> {
 /// Lane twin of `pair_interaction_at`: the tangential part (with the torques on 1 and 2) and
 /// the force on 1 (its damping part is `g.damping`).
 #[inline(always)]
-pub fn pair_interaction_at_lanes<S: Isa>(
+pub(crate) fn pair_interaction_at_lanes<S: Isa>(
     law: &ContactLaw,
     g: &PairGeometryLanes<S>,
     n1: V4<S>,
@@ -387,7 +242,7 @@ pub fn pair_interaction_at_lanes<S: Isa>(
 
 /// The rolling, sliding and twisting part of four contacts' interaction, with the
 /// displacements it was made from.
-pub struct TangentialLanes<S: Isa> {
+pub(crate) struct TangentialLanes<S: Isa> {
     pub slide: V4<S>,
     pub torque1: V4<S>,
     pub torque2: V4<S>,
@@ -397,7 +252,7 @@ pub struct TangentialLanes<S: Isa> {
 
 /// Lane twin of `pair_tangential` (state/interaction.rs).
 #[inline(always)]
-pub fn pair_tangential_lanes<S: Isa>(
+pub(crate) fn pair_tangential_lanes<S: Isa>(
     law: &ContactLaw,
     nc: V4<S>,
     distance: F4<S>,
@@ -434,22 +289,11 @@ pub fn pair_tangential_lanes<S: Isa>(
 /// `jkr_contact_radius_ratio` of each overlap ratio in `d`, in place, `lanes` wide (a last
 /// batch of fewer than four one at a time): the same bits as one at a time.
 pub fn radius_ratios(lanes: ContactLanes, d: &mut [f64]) {
-    match lanes {
-        #[cfg(target_arch = "x86_64")]
-        ContactLanes::Avx2 => {
-            assert!(std::arch::is_x86_feature_detected!("avx2"));
-            // SAFETY: the processor has AVX2 (checked above).
-            unsafe { radius_ratios_avx2(d) }
-        }
-        ContactLanes::Scalar => d.iter_mut().for_each(|d| *d = jkr_contact_radius_ratio(*d)),
-        _ => radius_ratios_in_lanes::<Portable>(d),
-    }
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn radius_ratios_avx2(d: &mut [f64]) {
-    radius_ratios_in_lanes::<Avx2>(d)
+    in_lanes!(
+        lanes,
+        radius_ratios_in_lanes(d) as (d: &mut [f64]),
+        scalar => d.iter_mut().for_each(|d| *d = jkr_contact_radius_ratio(*d)),
+    )
 }
 
 #[inline(always)]
@@ -467,7 +311,7 @@ fn radius_ratios_in_lanes<S: Isa>(d: &mut [f64]) {
 /// Lane twin of `jkr_contact_radius_ratio`: Newton's method on every lane at once, each lane
 /// stopping where the scalar loop would (its value then held by the mask).
 #[inline(always)]
-pub fn jkr_contact_radius_ratio_lanes<S: Isa>(d: F4<S>) -> F4<S> {
+pub(crate) fn jkr_contact_radius_ratio_lanes<S: Isa>(d: F4<S>) -> F4<S> {
     let below = d.le(F4::<S>::splat(D_MIN));
     let mut y = newton_start_lanes(d);
     let mut active = M4::ALL.and_not(below);
