@@ -108,13 +108,13 @@ fn mass_balance_reason(f: &Family) -> String {
         .iter()
         .filter_map(|s| {
             let layer = s.layer_phi?.mean;
-            let balance = s.front_mass_balance?.mean;
+            let seen = s.front_elapsed?.mean;
             Some(format!(
-                "{} m/s: φ_l {:.3}, φ_l/(φ_l − φ₀) {}, v_f/v_wall {}",
+                "{} m/s: φ_l {:.3}, φ_l/(φ_l − φ₀) {} against {} seen",
                 s.speed,
                 layer,
                 sig(layer / (layer - s.phi0.mean)),
-                sig(balance / s.speed)
+                sig(seen / s.speed)
             ))
         })
         .collect();
