@@ -6,7 +6,8 @@
 #
 # On Debian 12 lavapipe comes from bookworm-backports (Mesa 25) when that suite can be reached:
 # Mesa 22.3's lavapipe, the stock one, runs our compute shaders about three times slower (it
-# compiles every storage-buffer access into a loop over the SIMD lanes; see DESIGN.md). The
+# compiles every storage-buffer access into a loop over the SIMD lanes; see
+# docs/guide/src/benchmarks.md, "What lavapipe charges for, measured (Mesa 22.3)"). The
 # stock package is the fallback; the tests pass on both.
 set -euo pipefail
 cd "$(dirname "$0")/.."

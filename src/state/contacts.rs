@@ -13,7 +13,7 @@ pub const DEFAULT_WALL_SLOTS: usize = 3;
 
 /// History of one monomer–monomer contact, stored with its lower-index monomer (the owner).
 /// Aligned to 64 bytes (its size): each slot one cache line, not two halves of neighbours'
-/// (DESIGN.md, "The CPU engine: one cache line per contact slot").
+/// (docs/guide/src/benchmarks.md, "CPU engine: one cache line per contact slot").
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(align(64))]
 pub struct PairContact {

@@ -110,8 +110,8 @@ impl Drop for Ending<'_> {
 /// Runs the pool's pending jobs on the thread that takes this one, spinning between them, until
 /// `done`: between two passes of a run the pool's other thread then waits awake for the next
 /// pass's chunks instead of falling asleep at a pass's tail and being woken for the next one
-/// (on a virtual machine a wake-up can cost more than a small pass; DESIGN.md, "The CPU
-/// engine: a thread kept awake"). Taken by the runner's own thread (`runner`), it returns at
+/// (on a virtual machine a wake-up can cost more than a small pass; docs/guide/src/
+/// benchmarks.md, "CPU engine: a thread kept awake"). Taken by the runner's own thread (`runner`), it returns at
 /// once: that thread waits on nothing but its own passes.
 fn keep_awake(done: &AtomicBool, runner: Option<usize>) {
     if rayon::current_thread_index() == runner {

@@ -9,10 +9,11 @@
 //! after another, and a row that contact events made longer takes new places from the spare
 //! ones. So an event touches only the entries of the partners of the rows it changed and
 //! those rows' places ([`PartnerIndex::update`]); every other owner's results stay where they
-//! are, and the CPU step keeps them from its pairs pass (DESIGN.md, "The CPU engine: the forces
-//! where the pointers are"). Under compression nearly every step has events but few rows
-//! change (23 of 10⁴ rows per step at φ 0.45): the full rebuild after each such step had been
-//! 7 % of a one-thread step's instructions (DESIGN.md, "CPU engine: the partner index"). The
+//! are, and the CPU step keeps them from its pairs pass (docs/guide/src/benchmarks.md, "CPU
+//! engine: the forces where the pointers are"). Under compression nearly every step has events
+//! but few rows change (23 of 10⁴ rows per step at φ 0.45): the full rebuild after each such
+//! step had been 7 % of a one-thread step's instructions (docs/guide/src/benchmarks.md, "CPU
+//! engine: the partner index"; DESIGN.md, "The CPU engine on many cores"). The
 //! full rebuild remains for a new or replaced table, for a monomer whose entries outgrow their
 //! room, and for a chunk whose spare places are used up.
 

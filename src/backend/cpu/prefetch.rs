@@ -4,8 +4,8 @@
 //! the previous one and many rows are empty, so the hardware prefetchers do not follow; with
 //! 10⁵ monomers the table is larger than the last-level cache and every row was a memory
 //! round trip that the long per-contact arithmetic kept from overlapping with the next
-//! (DESIGN.md, "CPU engine: prefetching contact rows"). A hint changes no value, only when a
-//! line arrives, so results are bit-identical with or without it.
+//! (docs/guide/src/benchmarks.md, "CPU engine: prefetching contact rows"). A hint changes no
+//! value, only when a line arrives, so results are bit-identical with or without it.
 //!
 //! The hints themselves, below the contact law; when the passes give them is theirs to
 //! decide (passes/prefetching.rs).

@@ -123,14 +123,15 @@ pub fn integrate_pairs(
 ///    corrections are the contacts pass's on the same values (the positions the drift stores,
 ///    the same pointers), so the state after the step has the same bits; the tally's sum
 ///    differs only in the order of one owner's corrections where a contact of it breaks (the
-///    events reorder its slots). DESIGN.md, "The CPU engine: the corrections where the
-///    pointers are".
+///    events reorder its slots). docs/guide/src/benchmarks.md, "CPU engine: the corrections
+///    where the pointers are".
 /// 2. Each contact's force at the positions the drift is about to store goes into
 ///    `workspace.pair_result`, where `forces` would put it (by the partner index, rebuilt
 ///    first where stale). The contacts pass then moves those results with the rows its events
 ///    leave alone, and the step's `forces` evaluates only the rows the events changed
 ///    (`forces_of_changed_rows`): the same values from the same operations, one sweep over
-///    the contacts fewer. DESIGN.md, "The CPU engine: the forces where the pointers are".
+///    the contacts fewer. docs/guide/src/benchmarks.md, "CPU engine: the forces where the
+///    pointers are".
 pub fn integrate_pairs_step(
     law: &ContactLaw,
     dt: f64,

@@ -64,8 +64,8 @@ pub fn wall_contacts(
 ///
 /// With `next_kick` (the CPU step between two steps of one run), each monomer then gets the
 /// next step's `integrate_kick` at once, its forces still in registers: the same operations on
-/// the same values, one sweep over the monomers fewer (DESIGN.md, "The CPU engine: the kick
-/// joined to the gather"). The table is mutable for that kick's wall-contact pointers.
+/// the same values, one sweep over the monomers fewer (docs/guide/src/benchmarks.md, "CPU
+/// engine: the kick joined to the gather"). The table is mutable for that kick's wall-contact pointers.
 pub fn wall_forces(
     dt: f64,
     walls: &[Wall],
