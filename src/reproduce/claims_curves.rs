@@ -73,11 +73,7 @@ pub fn curve_claim(
         } else {
             format!("Δφ ≤ {PHI_TOL}")
         },
-        if agrees {
-            Verdict::Agrees
-        } else {
-            Verdict::Differs
-        },
+        Verdict::agrees_if(agrees),
     )
 }
 
@@ -93,11 +89,7 @@ pub fn one_mpa_claim(s: Option<&SpeedResult>, paper: &str) -> Claim {
         return untested(claim, paper, "no run reaches 1 MPa");
     };
     let phi = at.mean;
-    let verdict = if (phi - 0.52).abs() <= PHI_TOL {
-        Verdict::Agrees
-    } else {
-        Verdict::Differs
-    };
+    let verdict = Verdict::agrees_if((phi - 0.52).abs() <= PHI_TOL);
     Claim {
         ratio: Some(phi / 0.52),
         ..Claim::new(
@@ -181,11 +173,7 @@ pub fn uni_size_claim(families: &[&Family], reference: &Eq13, paper: &str) -> Cl
         paper,
         format!("φ − φ_B&S at 10 kPa by size: {}", ours.join(", ")),
         "larger at every larger size".into(),
-        if grows {
-            Verdict::Agrees
-        } else {
-            Verdict::Differs
-        },
+        Verdict::agrees_if(grows),
     )
 }
 

@@ -41,11 +41,7 @@ pub fn regimes_claim(f: &Family) -> Claim {
         .filter(|s| s.regimes.is_none_or(|r| 2 * r.three_regimes <= r.runs))
         .map(|s| format!("{} m/s", s.speed))
         .collect();
-    let verdict = if failing.is_empty() {
-        Verdict::Agrees
-    } else {
-        Verdict::Differs
-    };
+    let verdict = Verdict::agrees_if(failing.is_empty());
     Claim::new(
         claim,
         paper,
@@ -62,15 +58,19 @@ pub fn regimes_claim(f: &Family) -> Claim {
     })
 }
 
+/// The front speed the paper's way (first deviation over elapsed time) at each wall speed.
+fn fronts_seen(f: &Family) -> Vec<(f64, Spread)> {
+    f.speeds
+        .iter()
+        .filter_map(|s| Some((s.speed, s.front_elapsed?)))
+        .collect()
+}
+
 /// "This compact layer propagates downwards at the speed of the wall": v_p ÷ v_wall = 1.
 pub fn front_ratio_claim(f: &Family) -> Claim {
     let claim = "The compact layer propagates at the wall's speed (v_p ÷ v_wall)";
     let paper = "1 (\"propagates downwards at the speed of the wall\", Sect. 5.2)";
-    let measured: Vec<(f64, Spread)> = f
-        .speeds
-        .iter()
-        .filter_map(|s| Some((s.speed, s.front_elapsed?)))
-        .collect();
+    let measured = fronts_seen(f);
     if measured.is_empty() {
         return untested(claim, paper, "no dynamic run with profiles finished");
     }
@@ -85,11 +85,7 @@ pub fn front_ratio_claim(f: &Family) -> Claim {
         .iter()
         .map(|(v, s)| format!("{v} m/s: {}", sig(s.mean / v)))
         .collect();
-    let verdict = if off.is_empty() {
-        Verdict::Agrees
-    } else {
-        Verdict::Differs
-    };
+    let verdict = Verdict::agrees_if(off.is_empty());
     Claim::new(
         claim,
         paper,
@@ -130,11 +126,7 @@ fn mass_balance_reason(f: &Family) -> String {
 pub fn front_speed_claim(f: &Family) -> Claim {
     let claim = "Compaction front speed v_p = 6.98 m/s (first deviation ÷ elapsed time)";
     let paper = "6.98 ± 0.16 m/s, 6 samples; wall speed not stated";
-    let measured: Vec<(f64, Spread)> = f
-        .speeds
-        .iter()
-        .filter_map(|s| Some((s.speed, s.front_elapsed?)))
-        .collect();
+    let measured = fronts_seen(f);
     if measured.is_empty() {
         return untested(claim, paper, "no dynamic run with profiles finished");
     }
@@ -190,11 +182,7 @@ pub fn plateau_claim(f: &Family, why: &dyn Fn(&SpeedResult) -> String) -> Claim 
         .iter()
         .filter(|(_, r)| r.mean.max(1.0 / r.mean) > CONSTANT_FACTOR)
         .collect();
-    let verdict = if off.is_empty() {
-        Verdict::Agrees
-    } else {
-        Verdict::Differs
-    };
+    let verdict = Verdict::agrees_if(off.is_empty());
     Claim::new(
         claim,
         paper,

@@ -27,6 +27,15 @@ pub enum Verdict {
 }
 
 impl Verdict {
+    /// Agrees when `ok`, differs otherwise.
+    pub fn agrees_if(ok: bool) -> Verdict {
+        if ok {
+            Verdict::Agrees
+        } else {
+            Verdict::Differs
+        }
+    }
+
     pub fn text(&self) -> String {
         match self {
             Verdict::Agrees => "agrees".into(),
@@ -116,11 +125,7 @@ pub fn compare(
     } else {
         " (one seed: no error)".into()
     };
-    let verdict = if (ours - paper).abs() <= tol {
-        Verdict::Agrees
-    } else {
-        Verdict::Differs
-    };
+    let verdict = Verdict::agrees_if((ours - paper).abs() <= tol);
     Claim {
         ratio: Some(ours / paper),
         ..Claim::new(
