@@ -324,6 +324,97 @@ pub fn v_crit_claim(laws: &Laws, conditions: &str) -> Claim {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::analysis::regimes::RegimeSummary;
+    use crate::reproduce::fixtures::{bare_speed, family, fitted, over_seeds};
+
+    fn conditions(_: usize) -> String {
+        "c".into()
+    }
+
+    fn no_reason(_: &SpeedResult) -> String {
+        "reason".into()
+    }
+
+    #[test]
+    fn p_m_at_1_m_s_is_read_against_both_eq_14_and_eq_15() {
+        // Eq. 14 at 1 m/s: 18.296 − 33.663 + 16.667 = 1.300 kPa; Eq. 15: 1.340 + 0.307 =
+        // 1.647 kPa. Ours 1.300 ± 0.001: on Eq. 14; 0.347 below Eq. 15, beyond its
+        // 0.002 + 0.329 allowance.
+        let speeds = [0.5, 1.0, 5.0].map(|v| {
+            let mut s = bare_speed(v, 3);
+            s.fixed = Some(fitted(1300.0, 1.0, 0.3, 0.01));
+            s
+        });
+        let f = family(40_000, speeds.to_vec());
+        let rows = per_speed_claims(&f, &conditions, &no_reason);
+        let names: Vec<&str> = rows.iter().map(|c| c.claim.as_str()).collect();
+        assert_eq!(
+            names,
+            [
+                "p_m at 0.5 m/s (Eq. 14)",
+                "Δ at 0.5 m/s (Eq. 17)",
+                "p_m at 1 m/s (Eq. 14)",
+                "p_m at 1 m/s (Eq. 15)",
+                "Δ at 1 m/s (Eq. 17)",
+                "p_m at 5 m/s (Eq. 15)",
+                "Δ at 5 m/s (Eq. 17)",
+            ]
+        );
+        assert_eq!(rows[2].verdict, Verdict::Agrees);
+        assert!((rows[2].ratio.unwrap() - 1.0).abs() < 1e-9);
+        assert_eq!(rows[3].verdict, Verdict::Differs);
+        assert_eq!(rows[3].why, "reason");
+        assert_eq!(rows[2].why, "");
+    }
+
+    #[test]
+    fn the_front_at_the_wall_s_speed_is_tested_per_speed_and_6_98_m_s_is_not() {
+        let with_front = |v: f64, ratio: f64| {
+            let mut s = bare_speed(v, 3);
+            s.front_elapsed = Some(over_seeds(ratio * v, 0.001, 3));
+            s
+        };
+        // 1.19 v_wall is within 20 % (plus 2σ of 0.001/v) of 1; 1.25 is not.
+        let near = family(40_000, vec![with_front(2.5, 1.19), with_front(5.0, 1.0)]);
+        assert_eq!(front_ratio_claim(&near).verdict, Verdict::Agrees);
+        let far = family(40_000, vec![with_front(2.5, 1.19), with_front(5.0, 1.25)]);
+        assert_eq!(front_ratio_claim(&far).verdict, Verdict::Differs);
+        // Fronts at 4 and 8 m/s for walls at 2.5 and 5 m/s: 6.98 is crossed at 4.36 m/s,
+        // and the row is still not a verdict.
+        let fronts = family(40_000, vec![with_front(2.5, 1.6), with_front(5.0, 1.6)]);
+        let c = front_speed_claim(&fronts);
+        match &c.verdict {
+            Verdict::NotTested(why) => assert!(why.contains("4.36"), "{why}"),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn a_plateau_is_constant_within_a_factor_two_either_way() {
+        let with_rise = |v: f64, rise: f64| {
+            let mut s = bare_speed(v, 3);
+            s.regimes = Some(RegimeSummary {
+                runs: 3,
+                three_regimes: 3,
+                critical_pa: None,
+                plateau_pa: None,
+                phi_steep: None,
+                plateau_rise: Some(over_seeds(rise, 0.01, 3)),
+            });
+            s
+        };
+        let verdict = |rises: &[f64]| {
+            let speeds = rises
+                .iter()
+                .enumerate()
+                .map(|(k, &r)| with_rise(2.5 * (k + 1) as f64, r))
+                .collect();
+            plateau_claim(&family(40_000, speeds), &no_reason).verdict
+        };
+        assert_eq!(verdict(&[1.9, 0.55, 1.0]), Verdict::Agrees);
+        assert_eq!(verdict(&[1.9, 2.1]), Verdict::Differs);
+        assert_eq!(verdict(&[1.0, 0.45]), Verdict::Differs);
+    }
 
     fn spread(mean: f64) -> Spread {
         Spread {

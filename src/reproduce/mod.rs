@@ -9,6 +9,8 @@ mod claims;
 mod claims_curves;
 mod claims_dynamic;
 mod figures;
+#[cfg(test)]
+mod fixtures;
 mod laws;
 mod report;
 mod size_trend;

@@ -74,9 +74,9 @@ fn shared_slowest_speed(sizes: &[&Family]) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::average::Spread;
     use crate::analysis::ensemble::FixedPhiPoint;
     use crate::reproduce::analysis::SpeedResult;
+    use crate::reproduce::fixtures::bare_speed;
 
     /// A run whose pressure is 10^(10 φ) Pa at every φ of its grid, shifted by `dphi`.
     fn speed(v: f64, seeds: usize, dphi: f64) -> SpeedResult {
@@ -90,28 +90,10 @@ mod tests {
                 }
             })
             .collect();
-        SpeedResult {
-            speed: v,
-            seeds: (1..=seeds as u64).collect(),
-            phi0: Spread {
-                mean: 0.12 + dphi,
-                sd: f64::NAN,
-                sem: f64::NAN,
-                count: seeds,
-            },
-            mean_curve,
-            transient: None,
-            fixed: None,
-            phi1_free: None,
-            first_passage: None,
-            regimes: None,
-            front_elapsed: None,
-            front_robust: None,
-            front_mass_balance: None,
-            layer_phi: None,
-            phi_at_mpa: None,
-            wall_clock_s: 0.0,
-        }
+        let mut s = bare_speed(v, seeds);
+        s.phi0.mean = 0.12 + dphi;
+        s.mean_curve = mean_curve;
+        s
     }
 
     fn family(variant: &str, monomers: usize, speeds: Vec<SpeedResult>) -> Family {

@@ -286,6 +286,62 @@ mod tests {
         assert!((at(PHI_HIGH) / at(PHI_LOW) - 3.574).abs() < 0.002);
     }
 
+    /// Speed `v` whose seed-mean curve is `p(φ)` on the 0.005 grid from 0.16 to 0.55, with a
+    /// plateau of 10 kPa and a front at 1.5 v_wall.
+    fn measured(v: f64, p: impl Fn(f64) -> f64) -> SpeedResult {
+        use crate::analysis::regimes::RegimeSummary;
+        use crate::reproduce::fixtures::{bare_speed, over_seeds};
+        let mut s = bare_speed(v, 3);
+        s.mean_curve = (0..=78)
+            .map(|k| {
+                let phi = 0.16 + 0.005 * k as f64;
+                FixedPhiPoint {
+                    phi,
+                    p_mean: p(phi),
+                    p_sd: 0.0,
+                }
+            })
+            .collect();
+        s.regimes = Some(RegimeSummary {
+            runs: 3,
+            three_regimes: 3,
+            critical_pa: None,
+            plateau_pa: Some(over_seeds(1e4, 1.0, 3)),
+            phi_steep: None,
+            plateau_rise: None,
+        });
+        s.front_mass_balance = Some(over_seeds(1.5 * v, 0.01, 3));
+        s
+    }
+
+    #[test]
+    fn one_reason_is_named_only_where_the_rise_differs_more_than_the_level() {
+        use crate::reproduce::fixtures::family;
+        // Flat curves: from φ 0.2 to 0.45 the paper's curve rises 3.57× at 5 m/s and 3.22× at
+        // 10 m/s, ours 1×. At 5 m/s the levels are 12 against 12.3 kPa: the rise is the gap.
+        // At 10 m/s 10 against 49.9 kPa (ln 5.0 = 1.61) is larger than ln 3.22 = 1.17.
+        let flat = family(40_000, vec![measured(5.0, |_| 1.2e4)]);
+        let text = summary(&flat).unwrap();
+        assert!(text.contains("differ for one reason"), "{text}");
+        let both = family(
+            40_000,
+            vec![measured(5.0, |_| 1.2e4), measured(10.0, |_| 1e4)],
+        );
+        let text = summary(&both).unwrap();
+        assert!(text.contains("do not single out"), "{text}");
+        // Our curve the paper's own: no rise gap, no single reason.
+        let same = family(
+            40_000,
+            vec![measured(5.0, |phi| {
+                paper_curve(5.0).pressure_at(phi).unwrap()
+            })],
+        );
+        let text = summary(&same).unwrap();
+        assert!(text.contains("do not single out"), "{text}");
+        // Momentum: 10 kPa against 2650 · 0.15 · 5 · 7.5 = 14.9 kPa.
+        assert!(text.contains("0.671–0.671×"), "{text}");
+    }
+
     #[test]
     fn the_mean_pressure_is_read_on_a_grid_point_or_between_two() {
         let curve: Vec<FixedPhiPoint> = [(0.195, 10.0), (0.2, 20.0), (0.205, 40.0)]
