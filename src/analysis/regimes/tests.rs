@@ -219,3 +219,24 @@ fn a_regime_i_shorter_than_a_row_puts_the_plateau_first_not_the_knee() {
     assert!((250..=260).contains(&r.steep_start), "{r:?}");
     assert!(r.three_regimes, "{r:?}");
 }
+
+#[test]
+fn a_short_plateau_after_a_long_regime_i_is_found() {
+    // 30 rows of regime (i) rising 0.1 dex a row at constant φ, a plateau of 10 rows, a
+    // steep rise of 30 rows, each piece off the line of the one before: the plateau is
+    // shorter than regime (i) and still found.
+    let c: Vec<(f64, f64)> = (0..70)
+        .map(|i| {
+            let log_p = match i {
+                0..30 => 1.0 + 0.1 * i as f64,
+                30..40 => 4.05 + 0.001 * (i - 30) as f64,
+                _ => 4.2 + 0.1 * (i - 40) as f64,
+            };
+            let phi = 0.15 + if i < 30 { 0.0 } else { 0.005 * (i - 29) as f64 };
+            (10f64.powf(log_p), phi)
+        })
+        .collect();
+    let r = find_regimes(&c, &RegimeOptions::default()).unwrap();
+    assert_eq!((r.plateau_start, r.steep_start), (30, 40), "{r:?}");
+    assert!(r.three_regimes, "{r:?}");
+}
