@@ -92,6 +92,16 @@ mod tests {
     }
 
     #[test]
+    fn the_median_of_an_even_window_is_the_mean_of_its_middle_two() {
+        assert_eq!(median(&mut [4.0, 1.0, 3.0, 2.0]), 2.5);
+        assert_eq!(median(&mut [3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&mut [7.0]), 7.0);
+        // The second point's window is the first four points: 100, 200, 300, 400 → 250.
+        let s = smoothed(&curve(&[400.0, 100.0, 300.0, 200.0, 500.0, 600.0]));
+        assert_eq!(s[1], 250.0);
+    }
+
+    #[test]
     fn rising_curves_ripples_and_single_spikes_are_no_transient() {
         // Rising throughout (quasi-static): the lowest point is the first.
         let rising: Vec<f64> = (0..40).map(|k| 10.0 * 1.1f64.powi(k)).collect();
