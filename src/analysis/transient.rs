@@ -126,4 +126,19 @@ mod tests {
         assert!(impact_transient(&curve(&beyond)).is_some());
         assert_eq!(impact_transient(&[]), None);
     }
+
+    #[test]
+    fn points_without_a_pressure_are_never_the_lowest() {
+        // Three points of zero pressure (the wall not yet in contact), then a fall from 400
+        // to 200 kPa: the fall is found, from its own lowest point.
+        let p: Vec<f64> = (0..40)
+            .map(|k| match k {
+                0..3 => 0.0,
+                3..13 => 400.0 - 20.0 * (k - 3) as f64,
+                _ => 200.0,
+            })
+            .collect();
+        let t = impact_transient(&curve(&p)).expect("a transient");
+        assert!((t.phi_from - (0.16 + 0.005 * 13.0)).abs() < 1e-12, "{t:?}");
+    }
 }
