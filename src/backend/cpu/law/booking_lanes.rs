@@ -10,10 +10,10 @@
 //! energy from that force's tangential part instead of evaluating it again. The drops are then
 //! added lane by lane in order, the order `Noted::book` adds them, so the tally has its bits.
 
-use super::corrections_lanes::{step_energy_of_tangential, tangential_step_energy_lanes, Frame};
 use super::forces_lanes::{pointers_of, results_of_four};
 use super::limits_lanes::{limits_lanes, LimitsLanes};
 use super::results::PairResult;
+use super::step_energy_lanes::{step_energy_of_tangential, tangential_step_energy_lanes, Frame};
 use crate::backend::cpu::lanes::{Isa, F4, V4};
 use crate::model::{twisting, ContactLaw};
 use crate::state::{Dissipation, PairContact};

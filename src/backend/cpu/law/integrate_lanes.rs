@@ -15,10 +15,11 @@
 //! the forces pass would after the events.
 
 use super::booking_lanes::{correct_and_book_four, Advanced};
-use super::corrections_lanes::{Found, Frame, Noted};
+use super::corrections_lanes::{Found, Noted};
 use super::forces_lanes::{pointers_of, result_at, results_of_four};
 use super::limits_lanes::{limits_lanes, LimitsLanes};
 use super::results::{OwnerChunk, PairResult, ResultPlaces};
+use super::step_energy_lanes::Frame;
 use crate::backend::cpu::lanes::{in_lanes, ContactLanes, Isa, F4, M4, V4};
 use crate::backend::script::{PAIR_TEST_BEYOND, PAIR_TEST_BREAKS};
 use crate::model::pointer::rotate_pointer;

@@ -9,6 +9,7 @@
 //! - `limits_lanes.rs`: the rolling and sliding limits in lanes;
 //! - `corrections_lanes.rs`: the pair contacts' inelastic corrections and their booking;
 //! - `booking_lanes.rs`: the pairs pass's corrections booked in the lanes;
+//! - `step_energy_lanes.rs`: a pair contact's tangential step energy, four at a time;
 //! - `integrate_lanes.rs`: a pair contact's leap-frog step and tests;
 //! - `walls.rs`: a monomer's wall contacts (limits and forces);
 //! - `wall_planes.rs`: how many walls each monomer touches, four walls at a time.
@@ -21,5 +22,6 @@ pub mod forces_lanes;
 pub mod integrate_lanes;
 pub(crate) mod limits_lanes;
 pub mod results;
+mod step_energy_lanes;
 pub mod wall_planes;
 pub mod walls;
