@@ -193,7 +193,7 @@ def calibrate(measured: Union[PathLike, Sequence[PathLike]], config: ConfigLike,
               rounds: int = 2, threads: Optional[int] = None, plan: bool = False,
               cache: Optional[PathLike] = None,
               progress: Optional[Callable[[str], Any]] = None, *, screen_seeds: int = 1,
-              screen_monomers: int = 0, prune: bool = True, screen_both_ends: bool = False,
+              screen_monomers: int = 0, prune: bool = True, screen_both_ends: bool = True,
               revisit: bool = False, cache_only: bool = False) -> CalibrationResult:
     """Calibrates the config's model against measured curves, as `dustdem calibrate` does
     (with `plan`, only the detection limits: plan.md). `measured` is one file or several

@@ -293,7 +293,7 @@ fn stop_on_signals(flag: &Arc<AtomicBool>) -> Vec<signal_hook::SigId> {
 /// Calibrates the config's model against measured curves (or, with `plan`, only estimates
 /// what they can resolve); writes the report into `out` and returns its lines and files.
 #[pyfunction]
-#[pyo3(signature = (measured, config, out, seeds=None, rounds=2, threads=None, plan=false, cache=None, progress=None, screen_seeds=1, screen_monomers=0, prune=true, screen_both_ends=false, revisit=false, cache_only=false))]
+#[pyo3(signature = (measured, config, out, seeds=None, rounds=2, threads=None, plan=false, cache=None, progress=None, screen_seeds=1, screen_monomers=0, prune=true, screen_both_ends=true, revisit=false, cache_only=false))]
 pub fn calibrate(
     py: Python<'_>,
     measured: Vec<PathBuf>,

@@ -102,9 +102,16 @@ pub enum Decision {
     /// it does not predict it: no effect in the library explains all curves. It is applied as
     /// the best partial explanation.
     Unpredictive { effect: Effect, fails: Vec<String> },
-    /// Several effects fit equally well (χ² within [`TIE_DELTA_CHI2`]); the data cannot tell
-    /// them apart. The first is the (nominally) best.
-    Undetermined(Vec<Effect>),
+    /// Two effects fitted jointly beat every single effect by more than χ²₉₅(1), and no
+    /// other pair comes near ([`super::pairs::reconsider`]).
+    NamedPair([Effect; 2]),
+    /// Several explanations fit equally well (χ² within [`TIE_DELTA_CHI2`]): single effects
+    /// and pairs that need both their effects; the data cannot tell them apart. The first
+    /// single (or, with none, the first pair) is the (nominally) best.
+    Undetermined {
+        singles: Vec<Effect>,
+        pairs: Vec<[Effect; 2]>,
+    },
 }
 
 impl Decision {
@@ -112,9 +119,26 @@ impl Decision {
     pub fn chosen(&self) -> Option<Effect> {
         match self {
             Decision::Named(e) | Decision::Unpredictive { effect: e, .. } => Some(*e),
-            Decision::Undetermined(tied) => tied.first().copied(),
-            Decision::WithinNoise | Decision::NoEffectExplains => None,
+            Decision::Undetermined { singles, .. } => singles.first().copied(),
+            Decision::WithinNoise | Decision::NoEffectExplains | Decision::NamedPair(_) => None,
         }
+    }
+
+    /// The pair the workflow applies, if any: a named pair, or the nominally best pair of an
+    /// undetermined result without a single effect among its candidates.
+    pub fn chosen_pair(&self) -> Option<[Effect; 2]> {
+        match self {
+            Decision::NamedPair(p) => Some(*p),
+            Decision::Undetermined { singles, pairs } if singles.is_empty() => {
+                pairs.first().copied()
+            }
+            _ => None,
+        }
+    }
+
+    /// Several explanations are left open.
+    pub fn is_undetermined(&self) -> bool {
+        matches!(self, Decision::Undetermined { .. })
     }
 }
 
@@ -242,7 +266,10 @@ fn decide(baseline: &Gap, fits: &[EffectFit]) -> Decision {
         .map(|f| f.effect)
         .collect();
     if tied.len() > 1 {
-        return Decision::Undetermined(tied);
+        return Decision::Undetermined {
+            singles: tied,
+            pairs: Vec::new(),
+        };
     }
     let fails = best.failed_predictions();
     if fails.is_empty() {
@@ -311,9 +338,11 @@ mod tests {
         let (_, d) = attribute(&m, &base, &[strong, twin]);
         assert_eq!(
             d,
-            Decision::Undetermined(vec![Effect::NormalDamping, Effect::SurfaceEnergy])
-                .clone()
-                .then_sorted(&d)
+            Decision::Undetermined {
+                singles: vec![Effect::NormalDamping, Effect::SurfaceEnergy],
+                pairs: Vec::new()
+            }
+            .then_sorted(&d)
         );
         let (_, d) = attribute(&m, &base, &[none]);
         assert_eq!(d, Decision::NoEffectExplains);
@@ -480,9 +509,15 @@ mod tests {
         /// The same set of effects in the order `other` lists them (ties are ordered by χ²).
         fn then_sorted(self, other: &Decision) -> Decision {
             match (self, other) {
-                (Decision::Undetermined(mut a), Decision::Undetermined(b)) => {
+                (
+                    Decision::Undetermined {
+                        singles: mut a,
+                        pairs,
+                    },
+                    Decision::Undetermined { singles: b, .. },
+                ) => {
                     a.sort_by_key(|e| b.iter().position(|x| x == e));
-                    Decision::Undetermined(a)
+                    Decision::Undetermined { singles: a, pairs }
                 }
                 (s, _) => s,
             }

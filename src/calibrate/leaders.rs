@@ -5,7 +5,8 @@
 
 use super::attribution::{attribute, Decision, EffectFit, Grid};
 use super::effects::Effect;
-use super::gap::{Gap, Prediction};
+use super::gap::{gap, Gap, Prediction};
+use super::pairs::{reconsider, rival_pairs, PairFit, CONFIRMED_PAIRS};
 use super::predictor::Predictor;
 use super::search::{polish, Current, PRUNE_DELTA_CHI2};
 
@@ -102,4 +103,51 @@ fn fitted_factor(fits: &[EffectFit], effect: Effect) -> f64 {
         .find(|f| f.effect == effect)
         .expect("fitted")
         .factor
+}
+
+/// A pair with its fitted factors and its predictions simulated on every seed.
+pub type PolishedPair = ([(Effect, f64); 2], Vec<Prediction>);
+
+/// The pairs the decision rests on ([`rival_pairs`]), simulated with both effects applied at
+/// their joint fit on every seed (at most [`CONFIRMED_PAIRS`], best first), and the decision
+/// revisited with each simulated χ² until no unsimulated pair is left among its rivals.
+/// Returns the decision, the pairs (simulated χ² set where run) and the simulated pairs.
+pub fn confirm_pairs(
+    predictor: &mut Predictor,
+    now: &Current,
+    fits: &[EffectFit],
+    mut pairs: Vec<PairFit>,
+    single: Decision,
+    round: usize,
+) -> Result<(Decision, Vec<PairFit>, Vec<PolishedPair>), String> {
+    let measured = predictor.measured;
+    let best_single = fits.iter().map(|f| f.chi2).fold(f64::INFINITY, f64::min);
+    let mut simulated: Vec<PolishedPair> = Vec::new();
+    loop {
+        let decision = reconsider(single.clone(), fits, &pairs);
+        let next = rival_pairs(&pairs, best_single)
+            .into_iter()
+            .find(|p| p.simulated_chi2.is_none())
+            .map(|p| p.effects);
+        let (Some(effects), true) = (next, simulated.len() < CONFIRMED_PAIRS) else {
+            return Ok((decision, pairs, simulated));
+        };
+        if matches!(decision, Decision::WithinNoise) {
+            return Ok((decision, pairs, simulated));
+        }
+        let p = pairs.iter_mut().find(|p| p.effects == effects).expect("pair");
+        let both = [(p.effects[0], p.factors[0]), (p.effects[1], p.factors[1])];
+        let config = both
+            .iter()
+            .fold(now.config.clone(), |c, (e, f)| e.apply(&c, *f));
+        let what = format!("round {round}: pair {} at its joint fit", p.names());
+        let predictions = predictor.predict(&[config], &what)?.remove(0);
+        p.simulated_chi2 = Some(gap(measured, &predictions).chi2);
+        (predictor.progress)(&format!(
+            "{what}: chi2 {:.2} interpolated, {:.2} simulated",
+            p.chi2,
+            p.simulated_chi2.unwrap()
+        ));
+        simulated.push((both, predictions));
+    }
 }

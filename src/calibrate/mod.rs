@@ -20,6 +20,7 @@ pub mod held_out;
 mod leaders;
 pub mod measured;
 pub mod outside;
+pub mod pairs;
 pub mod predictor;
 pub mod report;
 mod report_tables;

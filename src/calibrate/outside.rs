@@ -81,13 +81,20 @@ pub fn outside_library(
     }
     let best = fits.first()?;
     let involved: Vec<Effect> = match decision {
-        Decision::Undetermined(tied) => tied.clone(),
+        Decision::Undetermined { singles, pairs } => {
+            singles.iter().chain(pairs.iter().flatten()).copied().collect()
+        }
+        Decision::NamedPair(p) => p.to_vec(),
         _ => vec![best.effect],
     };
     let mut signs = Vec::new();
-    if let Decision::Undetermined(tied) = decision {
-        let names: Vec<&str> = tied.iter().map(|e| e.name()).collect();
-        signs.push(format!("the best effects tie ({})", names.join(", ")));
+    if let Decision::Undetermined { singles, pairs } = decision {
+        let names: Vec<String> = singles
+            .iter()
+            .map(|e| e.name().to_string())
+            .chain(pairs.iter().map(|p| format!("{} + {}", p[0].name(), p[1].name())))
+            .collect();
+        signs.push(format!("the best explanations tie ({})", names.join(", ")));
     }
     let on_bound: Vec<&str> = fits
         .iter()
@@ -233,7 +240,10 @@ mod tests {
 
     #[test]
     fn ties_bounds_and_a_gap_left_each_raise_it_with_the_formulas_constants() {
-        let tied = Decision::Undetermined(vec![Effect::NormalDamping, Effect::SurfaceEnergy]);
+        let tied = Decision::Undetermined {
+            singles: vec![Effect::NormalDamping, Effect::SurfaceEnergy],
+            pairs: Vec::new(),
+        };
         let fits = [
             fit(Effect::NormalDamping, 1.0, false),
             fit(Effect::SurfaceEnergy, 1.5, false),

@@ -2,7 +2,6 @@
 //! decision), `calibration.png` and one SVG per compression curve (measured vs baseline vs
 //! corrected), and `corrected.toml` (the config with the named effects applied).
 
-use super::attribution::Decision;
 use super::figures::plot_panels;
 use super::gap::{chi2_quantile_95, Gap};
 use super::report_tables::*;
@@ -228,11 +227,18 @@ pub fn markdown(cal: &Calibration, measured: &str, config_path: &Path) -> String
             }
             s.push('\n');
         }
+        pairs_table(&mut s, round);
         if !round.pruned.is_empty() {
             let _ = writeln!(
                 s,
-                "Not widened or refined after the screen (no scaling of a screened response, \
-                 up to ×64 either way, came within Δχ² = 2 of the best effect): {}.\n",
+                "Not widened or refined after the screen ({}): {}.\n",
+                if cal.settings.both_ends {
+                    "their fit through the runs on both sides of factor 1 stayed beyond Δχ² = 2 \
+                     of the best effect, with χ² not falling at an end that could be widened"
+                } else {
+                    "no scaling of a screened response, up to ×64 either way, came within \
+                     Δχ² = 2 of the best effect"
+                },
                 round
                     .pruned
                     .iter()
@@ -262,10 +268,18 @@ pub fn markdown(cal: &Calibration, measured: &str, config_path: &Path) -> String
         }
         detection_table(&mut s, round, k == 0 && nothing_named(cal));
         if let (Some((effect, factor)), Some(after)) = (round.applied, &round.gap_after) {
+            let partner = round.applied_partner.map_or(String::new(), |(e, f)| {
+                format!(
+                    " and {} x{} ({})",
+                    e.name(),
+                    fmt_factor(f),
+                    e.describe_value(&round_base(cal, k), f)
+                )
+            });
             let _ = writeln!(
                 s,
-                "Re-simulated with {} x{} ({}): chi2 {:.2} → {:.2}; normalised gap shrank by \
-                 {:.0}%{}.\n",
+                "Re-simulated with {} x{} ({}){partner}: chi2 {:.2} → {:.2}; normalised gap \
+                 shrank by {:.0}%{}.\n",
                 effect.name(),
                 fmt_factor(factor),
                 effect.describe_value(&round_base(cal, k), factor),
@@ -280,8 +294,8 @@ pub fn markdown(cal: &Calibration, measured: &str, config_path: &Path) -> String
             );
             curve_table(&mut s, after, cal);
         }
-        if let Decision::Undetermined(_) = round.decision {
-            s.push_str("The corrected config uses the nominally best of the tied effects; treat it as one of several equally good explanations.\n\n");
+        if round.decision.is_undetermined() {
+            s.push_str("The corrected config uses the nominally best of the tied explanations; treat it as one of several equally good ones.\n\n");
         }
     }
     revisits_section(&mut s, cal);

@@ -267,7 +267,13 @@ pub(super) fn chosen_text(
 /// The config a round started from: the base with the earlier rounds' effects applied.
 pub(super) fn round_base(cal: &Calibration, round: usize) -> crate::config::Config {
     let mut c = cal.base.clone();
-    for (effect, factor) in cal.applied.iter().take(round) {
+    // A round that chose a pair applied two effects.
+    let earlier: usize = cal.rounds[..round.min(cal.rounds.len())]
+        .iter()
+        .filter(|r| r.applied.is_some() && !r.rejected)
+        .map(|r| 1 + usize::from(r.applied_partner.is_some()))
+        .sum();
+    for (effect, factor) in cal.applied.iter().take(earlier) {
         c = effect.apply(&c, *factor);
     }
     c
@@ -325,6 +331,59 @@ pub(super) fn revisits_section(s: &mut String, cal: &Calibration) {
             after.unwrap_or_else(|| "–".into()),
             r.chi2_before,
             outcome
+        );
+    }
+    s.push('\n');
+}
+
+/// The pairs fitted jointly that need both their effects, best first; a sentence when none
+/// does. Nothing when no pair was fitted (the gap was within noise).
+pub(super) fn pairs_table(s: &mut String, round: &Round) {
+    if round.pairs.is_empty() {
+        return;
+    }
+    let needed: Vec<&super::pairs::PairFit> =
+        round.pairs.iter().filter(|p| p.needs_both()).collect();
+    if needed.is_empty() {
+        let _ = writeln!(
+            s,
+            "Pairs of effects fitted jointly ({} pairs, from the simulated responses added to \
+             the current model): none fits better than each of its effects alone by more than \
+             χ²₉₅(1) = {:.2}, so no pair needs both its effects.\n",
+            round.pairs.len(),
+            super::gap::chi2_quantile_95(1)
+        );
+        return;
+    }
+    let _ = writeln!(
+        s,
+        "Pairs of effects fitted jointly (the simulated responses added to the current model; \
+         listed when the pair beats each of its effects alone by more than χ²₉₅(1) = {:.2}; \
+         \"bound\": the factor sits on the end of the simulated range):\n\n\
+         | pair | factors [interval] | χ² | χ² simulated | χ² alone |\n|---|---|---|---|---|",
+        super::gap::chi2_quantile_95(1)
+    );
+    for p in needed.iter().take(8) {
+        let factor = |k: usize| {
+            format!(
+                "{}{} [{}, {}]",
+                if p.on_bound[k] { "bound " } else { "" },
+                fmt_factor(p.factors[k]),
+                fmt_factor(p.intervals[k].0),
+                fmt_factor(p.intervals[k].1)
+            )
+        };
+        let _ = writeln!(
+            s,
+            "| {} | {}; {} | {:.2} | {} | {:.2} / {:.2} |",
+            p.names(),
+            factor(0),
+            factor(1),
+            p.chi2,
+            p.simulated_chi2
+                .map_or("–".to_string(), |c| format!("{c:.2}")),
+            p.alone[0],
+            p.alone[1]
         );
     }
     s.push('\n');

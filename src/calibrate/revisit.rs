@@ -65,7 +65,10 @@ pub(super) fn revisit(
         };
         let (round, kept) = search_round(predictor, &now, &others, label + revisits.len())?;
         let chi2_now = gap(predictor.measured, &current.1).chi2;
-        let better = kept.filter(|after| gap(predictor.measured, after).chi2 < chi2_now);
+        // A revisit replaces one effect by one: a pair it names is reported, not applied.
+        let better = kept
+            .filter(|after| gap(predictor.measured, after).chi2 < chi2_now)
+            .filter(|_| round.applied_partner.is_none());
         let was = applied[j];
         let replaced = better.is_some();
         if let (Some(after), Some((effect, factor))) = (better, round.applied) {

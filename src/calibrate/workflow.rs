@@ -8,7 +8,8 @@ pub use super::detection::limit_text;
 use super::effects::Effect;
 use super::gap::{gap, Gap, Prediction};
 use super::grid::Grid;
-use super::leaders::polish_leaders;
+use super::leaders::{confirm_pairs, polish_leaders};
+use super::pairs::{fit_pairs, PairFit};
 use super::measured::{Geometry, MeasuredSet};
 use super::outside::{outside_library, single_observable, OutsideLibrary};
 use super::predictor::{Cost, Predictor};
@@ -34,7 +35,8 @@ pub struct Settings {
     /// Drop the effects that cannot come within Δχ² = 2 of the best one after the screen
     /// ([`super::search::pruned`]) instead of widening and refining them too.
     pub prune: bool,
-    /// Screen at both ends of each effect's range instead of the upper end only.
+    /// Screen at both ends of each effect's range (the default) instead of the upper end
+    /// only: an effect is then pruned only on runs on both sides of its factor 1.
     pub both_ends: bool,
     pub threads: usize,
     /// Effects added one after the other at most.
@@ -62,7 +64,7 @@ impl Default for Settings {
             screen_seeds: 1,
             screen_monomers: 0,
             prune: true,
-            both_ends: false,
+            both_ends: true,
             threads: std::thread::available_parallelism().map_or(2, |n| n.get()),
             max_rounds: 2,
             candidates: 3,
@@ -93,9 +95,14 @@ pub struct Round {
     pub pruned: Vec<Effect>,
     /// Fits sorted by χ², best first (empty when the gap was within noise).
     pub fits: Vec<EffectFit>,
+    /// Every pair of effects of two families fitted jointly, best first
+    /// ([`super::pairs`]); the ones the decision rests on simulated.
+    pub pairs: Vec<PairFit>,
     pub decision: Decision,
     /// The effect applied and its factor, with the re-simulated gap.
     pub applied: Option<(Effect, f64)>,
+    /// The second effect applied with it when the round chose a pair.
+    pub applied_partner: Option<(Effect, f64)>,
     pub gap_after: Option<Gap>,
     /// The correction did not lower χ² when re-simulated, so it was not kept.
     pub rejected: bool,
@@ -135,9 +142,10 @@ impl Calibration {
         self.rounds
             .iter()
             .chain(self.revisits.iter().filter(standing).map(|r| &r.round))
-            .filter_map(|r| match (&r.decision, r.rejected) {
-                (Decision::Named(e), false) => Some(*e),
-                _ => None,
+            .flat_map(|r| match (&r.decision, r.rejected) {
+                (Decision::Named(e), false) => vec![*e],
+                (Decision::NamedPair(p), false) => p.to_vec(),
+                _ => Vec::new(),
             })
             .collect()
     }
@@ -166,14 +174,17 @@ pub fn calibrate(
             predictions: &current_predictions,
         };
         let (r, kept) = search_round(&mut predictor, &now, &applied, round)?;
-        let undetermined = matches!(r.decision, Decision::Undetermined(_));
+        let undetermined = r.decision.is_undetermined();
         let (applied_now, within) = (r.applied, r.gap_after.as_ref().map(Gap::within_noise));
+        let partner = r.applied_partner;
         rounds.push(r);
         let (Some((effect, factor)), Some(after)) = (applied_now, kept) else {
             break;
         };
-        applied.push((effect, factor));
-        current = effect.apply(&current, factor);
+        for (e, f) in std::iter::once((effect, factor)).chain(partner) {
+            applied.push((e, f));
+            current = e.apply(&current, f);
+        }
         current_predictions = after;
         // With several equally good explanations a further round would build on a guess.
         if undetermined || within == Some(true) {
@@ -237,8 +248,10 @@ pub(super) fn search_round(
         outside: None,
         pruned: Vec::new(),
         fits: Vec::new(),
+        pairs: Vec::new(),
         decision: Decision::WithinNoise,
         applied: None,
+        applied_partner: None,
         gap_after: None,
         rejected: false,
     };
@@ -265,28 +278,44 @@ pub(super) fn search_round(
         ));
     }
     refine(predictor, now, &mut grids, &r.pruned, round)?;
-    let (fits, decision, polished) = polish_leaders(predictor, now, &mut grids, &before, round)?;
+    let (fits, single_decision, polished) =
+        polish_leaders(predictor, now, &mut grids, &before, round)?;
+    let pairs = fit_pairs(measured, &grids, now.predictions, &fits);
+    let (decision, pairs, simulated_pairs) =
+        confirm_pairs(predictor, now, &fits, pairs, single_decision, round)?;
     r.single = single_observable(measured, &before, &grids);
     r.outside = outside_library(&before, &fits, &decision, !measured.compression.is_empty());
     report_fits(progress, round, &fits, &decision);
-    let kept = decision
-        .chosen()
-        .and_then(|e| polished.into_iter().find(|p| p.0 == e));
-    (r.fits, r.decision) = (fits, decision);
-    let Some((effect, factor, after_predictions)) = kept else {
+    report_pairs(progress, round, &pairs);
+    let kept: Option<(Vec<(Effect, f64)>, Vec<Prediction>)> = match decision.chosen_pair() {
+        Some(pair) => simulated_pairs
+            .into_iter()
+            .find(|(both, _)| both.map(|b| b.0) == pair)
+            .map(|(both, p)| (both.to_vec(), p)),
+        None => decision
+            .chosen()
+            .and_then(|e| polished.into_iter().find(|p| p.0 == e))
+            .map(|(e, f, p)| (vec![(e, f)], p)),
+    };
+    (r.fits, r.pairs, r.decision) = (fits, pairs, decision);
+    let Some((chosen, after_predictions)) = kept else {
         return Ok((r, None));
     };
     let after = gap(measured, &after_predictions);
     r.rejected = after.chi2 >= before.chi2;
+    let text: Vec<String> = chosen
+        .iter()
+        .map(|(e, f)| format!("{} x{f:.3}", e.name()))
+        .collect();
     progress(&format!(
-        "round {round}: re-simulated with {} x{:.3}: chi2 {:.2} -> {:.2}{}",
-        effect.name(),
-        factor,
+        "round {round}: re-simulated with {}: chi2 {:.2} -> {:.2}{}",
+        text.join(" and "),
         before.chi2,
         after.chi2,
         if r.rejected { " (not kept)" } else { "" }
     ));
-    (r.applied, r.gap_after) = (Some((effect, factor)), Some(after));
+    (r.applied, r.applied_partner) = (Some(chosen[0]), chosen.get(1).copied());
+    r.gap_after = Some(after);
     Ok(match r.rejected {
         true => (r, None),
         false => (r, Some(after_predictions)),
@@ -444,6 +473,20 @@ fn check_seeds(settings: &Settings) -> Result<(), String> {
     Ok(())
 }
 
+/// The pairs that need both their effects, one line each.
+fn report_pairs(progress: &dyn Fn(&str), round: usize, pairs: &[PairFit]) {
+    for p in pairs.iter().filter(|p| p.needs_both()).take(5) {
+        let simulated = p
+            .simulated_chi2
+            .map_or(String::new(), |c| format!(", simulated {c:.2}"));
+        progress(&format!(
+            "round {round}: pair {} chi2 {:.2}{simulated}",
+            p.label(),
+            p.chi2
+        ));
+    }
+}
+
 fn report_fits(progress: &dyn Fn(&str), round: usize, fits: &[EffectFit], decision: &Decision) {
     for f in fits {
         progress(&format!("round {round}: {}", f.summary()));
@@ -461,6 +504,11 @@ pub fn describe_decision(d: &Decision) -> String {
             "no single effect lowers the gap significantly: no effect is named".into()
         }
         Decision::Named(e) => format!("named: {}", e.name()),
+        Decision::NamedPair(p) => format!(
+            "named: the pair {} + {} (both needed; no single effect or other pair comes near)",
+            p[0].name(),
+            p[1].name()
+        ),
         Decision::Unpredictive { effect, fails } => format!(
             "no effect explains all curves: {} fits them jointly, but fitted without {} it does \
              not predict {}; applied as the best partial explanation",
@@ -468,10 +516,15 @@ pub fn describe_decision(d: &Decision) -> String {
             fails.join(", "),
             if fails.len() == 1 { "it" } else { "them" }
         ),
-        Decision::Undetermined(tied) => format!(
+        Decision::Undetermined { singles, pairs } => format!(
             "undetermined: {} explain the data equally well; more or different data are needed \
              to tell them apart",
-            tied.iter().map(|e| e.name()).collect::<Vec<_>>().join(", ")
+            singles
+                .iter()
+                .map(|e| e.name().to_string())
+                .chain(pairs.iter().map(|p| format!("{} + {}", p[0].name(), p[1].name())))
+                .collect::<Vec<_>>()
+                .join(", ")
         ),
     }
 }

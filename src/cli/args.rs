@@ -109,9 +109,10 @@ pub(super) enum Command {
         /// best after the screen.
         #[arg(long)]
         no_prune: bool,
-        /// Screen every effect at both ends of its range, not at the upper end only.
+        /// Screen every effect at the upper end of its range only (the search before both ends
+        /// were screened: an effect is then pruned on its scaled response, which is no bound).
         #[arg(long)]
-        screen_both_ends: bool,
+        screen_upper_end_only: bool,
         /// Effects added one after the other at most.
         #[arg(long, default_value_t = 2)]
         rounds: usize,

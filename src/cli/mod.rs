@@ -70,7 +70,7 @@ pub fn main() -> ExitCode {
             screen_seeds,
             screen_monomers,
             no_prune,
-            screen_both_ends,
+            screen_upper_end_only,
             rounds,
             revisit,
             threads,
@@ -93,7 +93,7 @@ pub fn main() -> ExitCode {
                 screen_seeds,
                 screen_monomers,
                 prune: !no_prune,
-                both_ends: screen_both_ends,
+                both_ends: !screen_upper_end_only,
                 max_rounds: rounds,
                 revisit,
                 ..Settings::default()

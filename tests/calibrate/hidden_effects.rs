@@ -138,7 +138,7 @@ fn one_sticking_velocity_cannot_tell_damping_from_surface_energy() {
     let m = synthetic("tie", Some((Effect::NormalDamping, 1.5)), &[], &[101]);
     let cal = run_calibration("tie", &m, &settings());
     match &cal.rounds[0].decision {
-        Decision::Undetermined(tied) => {
+        Decision::Undetermined { singles: tied, .. } => {
             assert!(tied.contains(&Effect::NormalDamping), "{tied:?}");
             assert!(tied.contains(&Effect::SurfaceEnergy), "{tied:?}");
         }
