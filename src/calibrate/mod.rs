@@ -11,6 +11,7 @@
 
 pub mod attribution;
 pub mod detection;
+pub mod discriminate;
 pub mod effects;
 pub mod fidelity;
 pub mod figures;

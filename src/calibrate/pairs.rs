@@ -8,7 +8,7 @@
 //! than either effect alone by more than χ²₉₅ with one degree. The pairs the decision rests on
 //! are then simulated with both effects applied, on every seed ([`PairFit::simulated_chi2`]).
 
-use super::attribution::{Decision, EffectFit, TIE_DELTA_CHI2};
+use super::attribution::{Decision, DetectionLimit, EffectFit, TIE_DELTA_CHI2};
 use super::effects::Effect;
 use super::gap::{chi2_quantile_95, gap, Prediction};
 use super::grid::Grid;
@@ -19,7 +19,7 @@ const COARSE: usize = 33;
 /// Points per axis of the fine scan around the coarse minimum (± two coarse steps).
 const FINE: usize = 17;
 /// Pairs simulated per round at most (the best by screened χ² of those the decision rests on).
-pub const CONFIRMED_PAIRS: usize = 2;
+pub const CONFIRMED_PAIRS: usize = 6;
 
 /// The best joint fit of two effects.
 #[derive(Clone, Debug, PartialEq)]
@@ -35,6 +35,11 @@ pub struct PairFit {
     pub alone: [f64; 2],
     /// The factor sits on the end of its grid's simulated range: a bound, not a fit.
     pub on_bound: [bool; 2],
+    /// Set for a fit with this effect (0 or 1) held at or beyond its detection limit: the
+    /// best the pair does with that effect present at a level the data would show alone.
+    /// Such a fit is an alternative to the other effect alone when it fits as well; it is
+    /// never named (it is constrained).
+    pub pinned: Option<usize>,
     /// χ² simulated with both effects applied at the fitted factors on every seed.
     pub simulated_chi2: Option<f64>,
 }
@@ -45,10 +50,14 @@ impl PairFit {
         self.simulated_chi2.unwrap_or(self.chi2)
     }
 
-    /// Both effects are needed: the pair beats each alone by more than χ²₉₅(1).
+    /// Both effects are needed: the pair beats each alone by more than χ²₉₅(1). A pinned fit
+    /// holds one at a detectable level by construction and needs the other to beat it.
     pub fn needs_both(&self) -> bool {
         let q = chi2_quantile_95(1);
-        self.alone.iter().all(|a| a - self.chi2_used() > q)
+        match self.pinned {
+            None => self.alone.iter().all(|a| a - self.chi2_used() > q),
+            Some(k) => self.alone[k] - self.chi2_used() > q,
+        }
     }
 
     pub fn contains(&self, e: Effect) -> bool {
@@ -71,7 +80,17 @@ impl PairFit {
     }
 
     pub fn names(&self) -> String {
-        format!("{} + {}", self.effects[0].name(), self.effects[1].name())
+        let pinned = |k: usize| match self.pinned == Some(k) {
+            true => " (at its detection limit or beyond)",
+            false => "",
+        };
+        format!(
+            "{}{} + {}{}",
+            self.effects[0].name(),
+            pinned(0),
+            self.effects[1].name(),
+            pinned(1)
+        )
     }
 }
 
@@ -114,12 +133,15 @@ pub fn combine(current: &Prediction, a: &Prediction, b: &Prediction) -> Predicti
     }
 }
 
-/// Every pair of grids of two families, fitted jointly; sorted by χ², best first.
+/// Every pair of grids of two families, fitted jointly, sorted by χ² (best first); and for
+/// each pair and each of its effects with a detection limit, the joint fit with that effect
+/// held at or beyond its limit ([`PairFit::pinned`]).
 pub fn fit_pairs(
     m: &MeasuredSet,
     grids: &[Grid],
     current: &[Prediction],
     fits: &[EffectFit],
+    detection: &[DetectionLimit],
 ) -> Vec<PairFit> {
     let mut pairs = Vec::new();
     for (i, a) in grids.iter().enumerate() {
@@ -128,7 +150,7 @@ pub fn fit_pairs(
             {
                 continue;
             }
-            pairs.push(fit_pair(m, [a, b], current, fits));
+            pairs.extend(fit_pair(m, [a, b], current, fits, detection));
         }
     }
     pairs.sort_by(|x, y| x.chi2.total_cmp(&y.chi2));
@@ -166,21 +188,22 @@ fn chi2_table(
         .collect()
 }
 
-fn argmin(table: &[Vec<f64>]) -> (usize, usize) {
-    let mut best = (0, 0, f64::INFINITY);
+/// The lowest cell of a table among those `keep(i, j)` allows: (i, j, χ²).
+fn argmin(table: &[Vec<f64>], keep: impl Fn(usize, usize) -> bool) -> Option<(usize, usize, f64)> {
+    let mut best: Option<(usize, usize, f64)> = None;
     for (i, row) in table.iter().enumerate() {
         for (j, &c) in row.iter().enumerate() {
-            if c < best.2 {
-                best = (i, j, c);
+            if keep(i, j) && best.is_none_or(|b| c < b.2) {
+                best = Some((i, j, c));
             }
         }
     }
-    (best.0, best.1)
+    best
 }
 
 /// The interval of one axis where the profile (minimum over the other axis) is within +1 of
 /// `min`: the outermost axis points inside, one step out where the next is outside (a
-/// conservative reading of a coarse scan).
+/// conservative reading of a sampled scan).
 fn profile_interval(u: &[f64], profile: &[f64], min: f64) -> (f64, f64) {
     let inside: Vec<usize> = (0..u.len()).filter(|&k| profile[k] <= min + 1.0).collect();
     let (first, last) = match (inside.first(), inside.last()) {
@@ -193,38 +216,41 @@ fn profile_interval(u: &[f64], profile: &[f64], min: f64) -> (f64, f64) {
     )
 }
 
+/// The coarse axis with a fine stretch (± two coarse steps) around `k`, sorted.
+fn refined(coarse: &[f64], k: usize) -> Vec<f64> {
+    let lo = coarse[k.saturating_sub(2)];
+    let hi = coarse[(k + 2).min(coarse.len() - 1)];
+    let mut u: Vec<f64> = coarse.iter().copied().chain(axis(lo, hi, FINE)).collect();
+    u.sort_by(f64::total_cmp);
+    u.dedup();
+    u
+}
+
+/// Whether u lies at or beyond the detection limit of `d` (either way).
+fn detectable(d: &DetectionLimit, u: f64) -> bool {
+    d.lower.is_some_and(|l| u <= l.ln() + 1e-12) || d.upper.is_some_and(|h| u >= h.ln() - 1e-12)
+}
+
 fn fit_pair(
     m: &MeasuredSet,
     grids: [&Grid; 2],
     current: &[Prediction],
     fits: &[EffectFit],
-) -> PairFit {
+    detection: &[DetectionLimit],
+) -> Vec<PairFit> {
     let ends = grids.map(|g| g.ends());
-    let ua = axis(ends[0].0, ends[0].1, COARSE);
-    let ub = axis(ends[1].0, ends[1].1, COARSE);
-    let coarse = chi2_table(m, grids, current, &ua, &ub);
-    let (i, j) = argmin(&coarse);
-    // The fine box: two coarse steps either side, clamped to the simulated range.
-    let around = |u: &[f64], k: usize| {
-        let lo = u[k.saturating_sub(2)];
-        let hi = u[(k + 2).min(u.len() - 1)];
-        axis(lo, hi, FINE)
-    };
-    let (fa, fb) = (around(&ua, i), around(&ub, j));
-    let fine = chi2_table(m, grids, current, &fa, &fb);
-    let (fi, fj) = argmin(&fine);
-    let chi2 = fine[fi][fj].min(coarse[i][j]);
-    let (u0, u1) = if fine[fi][fj] <= coarse[i][j] {
-        (fa[fi], fb[fj])
-    } else {
-        (ua[i], ub[j])
-    };
-    let rows: Vec<f64> = coarse
+    let coarse = [0, 1].map(|k| axis(ends[k].0, ends[k].1, COARSE));
+    let table = chi2_table(m, grids, current, &coarse[0], &coarse[1]);
+    let (i, j, _) = argmin(&table, |_, _| true).expect("a scan");
+    let (ua, ub) = (refined(&coarse[0], i), refined(&coarse[1], j));
+    let table = chi2_table(m, grids, current, &ua, &ub);
+    let (i, j, chi2) = argmin(&table, |_, _| true).expect("a scan");
+    let rows: Vec<f64> = table
         .iter()
         .map(|r| r.iter().copied().fold(f64::INFINITY, f64::min))
         .collect();
     let cols: Vec<f64> = (0..ub.len())
-        .map(|c| coarse.iter().map(|r| r[c]).fold(f64::INFINITY, f64::min))
+        .map(|c| table.iter().map(|r| r[c]).fold(f64::INFINITY, f64::min))
         .collect();
     let own = |e: Effect| {
         fits.iter()
@@ -238,28 +264,45 @@ fn fit_pair(
         if !other.effect.identity_at_one() || !(other.ends().0..=other.ends().1).contains(&0.0) {
             return f64::INFINITY;
         }
-        let own_axis = if k == 0 { &ua } else { &ub };
         let zero = [0.0];
-        let table = match k {
-            0 => chi2_table(m, grids, current, own_axis, &zero),
-            _ => chi2_table(m, grids, current, &zero, own_axis),
+        let t = match k {
+            0 => chi2_table(m, grids, current, &coarse[0], &zero),
+            _ => chi2_table(m, grids, current, &zero, &coarse[1]),
         };
-        table.iter().flatten().copied().fold(f64::INFINITY, f64::min)
+        t.iter().flatten().copied().fold(f64::INFINITY, f64::min)
     };
     let alone = [0, 1].map(|k| own(grids[k].effect).min(alone_on_axis(k)));
     let at_end = |u: f64, (lo, hi): (f64, f64)| (u - lo).abs() < 1e-9 || (u - hi).abs() < 1e-9;
-    PairFit {
+    let free = PairFit {
         effects: [grids[0].effect, grids[1].effect],
-        factors: [u0.exp(), u1.exp()],
+        factors: [ua[i].exp(), ub[j].exp()],
         intervals: [
             profile_interval(&ua, &rows, chi2),
             profile_interval(&ub, &cols, chi2),
         ],
         chi2,
         alone,
-        on_bound: [at_end(u0, ends[0]), at_end(u1, ends[1])],
+        on_bound: [at_end(ua[i], ends[0]), at_end(ub[j], ends[1])],
+        pinned: None,
         simulated_chi2: None,
+    };
+    let mut out = vec![free.clone()];
+    for k in 0..2 {
+        let Some(d) = detection.iter().find(|d| d.effect == grids[k].effect) else {
+            continue;
+        };
+        let beyond = |i: usize, j: usize| detectable(d, if k == 0 { ua[i] } else { ub[j] });
+        if let Some((i, j, chi2)) = argmin(&table, beyond) {
+            out.push(PairFit {
+                factors: [ua[i].exp(), ub[j].exp()],
+                chi2,
+                on_bound: [at_end(ua[i], ends[0]), at_end(ub[j], ends[1])],
+                pinned: Some(k),
+                ..free.clone()
+            });
+        }
     }
+    out
 }
 
 /// The pairs a decision from single effects must answer to: those that need both effects
@@ -273,11 +316,34 @@ pub fn rival_pairs<'a>(pairs: &'a [PairFit], best_single: f64) -> Vec<&'a PairFi
     rivals
 }
 
+/// The pair with these effects the decision rests on: simulated before interpolated, then
+/// the lowest χ².
+pub fn find_pair(pairs: &[PairFit], effects: [Effect; 2]) -> Option<&PairFit> {
+    pairs.iter().filter(|p| p.effects == effects).min_by(|a, b| {
+        (a.simulated_chi2.is_none(), a.chi2_used())
+            .partial_cmp(&(b.simulated_chi2.is_none(), b.chi2_used()))
+            .expect("finite")
+    })
+}
+
+/// The effects of each pair, once, in order.
+fn distinct(pairs: &[&PairFit]) -> Vec<[Effect; 2]> {
+    let mut out: Vec<[Effect; 2]> = Vec::new();
+    for p in pairs {
+        if !out.contains(&p.effects) {
+            out.push(p.effects);
+        }
+    }
+    out
+}
+
 /// The decision from single effects, revisited with the pairs: a single effect stays named
-/// only when no pair that needs both its effects fits within [`TIE_DELTA_CHI2`] of it; a
-/// pair is named when it beats every single effect by more than χ²₉₅(1) (one more parameter)
-/// and no other pair comes within [`TIE_DELTA_CHI2`] of it; otherwise the result is
-/// undetermined, with every single effect and pair within reach listed.
+/// only when no pair that needs both its effects fits within [`TIE_DELTA_CHI2`] of it (a
+/// pair with one effect held at its detection limit included: the single effect with another
+/// at a level the data would show alone); a pair fitted freely is named when it beats every
+/// single effect by more than χ²₉₅(1) (one more parameter) and no other pair comes within
+/// [`TIE_DELTA_CHI2`] of it; otherwise the result is undetermined, with every single effect
+/// and pair within reach listed.
 pub fn reconsider(single: Decision, fits: &[EffectFit], pairs: &[PairFit]) -> Decision {
     let best_single = fits.iter().map(|f| f.chi2).fold(f64::INFINITY, f64::min);
     let rivals = rival_pairs(pairs, best_single);
@@ -287,19 +353,18 @@ pub fn reconsider(single: Decision, fits: &[EffectFit], pairs: &[PairFit]) -> De
         Decision::Named(e) | Decision::Unpredictive { effect: e, .. } => (vec![*e], true),
         Decision::Undetermined { singles, .. } => (singles.clone(), true),
     };
-    let Some(best) = rivals.first() else {
-        return single;
-    };
-    let wanted = best.chi2_used() < best_single - chi2_quantile_95(1);
-    if !explains && !wanted {
+    if rivals.is_empty() {
         return single;
     }
-    let near: Vec<[Effect; 2]> = rivals
-        .iter()
-        .filter(|p| p.chi2_used() < best.chi2_used() + TIE_DELTA_CHI2)
-        .map(|p| p.effects)
-        .collect();
-    if wanted {
+    let best_free = rivals.iter().find(|p| p.pinned.is_none());
+    let wanted = best_free.filter(|p| p.chi2_used() < best_single - chi2_quantile_95(1));
+    if let Some(best) = wanted {
+        let near: Vec<&PairFit> = rivals
+            .iter()
+            .filter(|p| p.chi2_used() < best.chi2_used() + TIE_DELTA_CHI2)
+            .copied()
+            .collect();
+        let near = distinct(&near);
         return match near.len() {
             1 => Decision::NamedPair(best.effects),
             _ => Decision::Undetermined {
@@ -308,9 +373,12 @@ pub fn reconsider(single: Decision, fits: &[EffectFit], pairs: &[PairFit]) -> De
             },
         };
     }
+    if !explains {
+        return single;
+    }
     Decision::Undetermined {
         singles,
-        pairs: rivals.iter().map(|p| p.effects).collect(),
+        pairs: distinct(&rivals),
     }
 }
 

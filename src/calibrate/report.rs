@@ -261,6 +261,7 @@ pub fn markdown(cal: &Calibration, measured: &str, config_path: &Path) -> String
         }
         held_out_table(&mut s, round);
         let _ = writeln!(s, "**Decision:** {}.\n", describe_decision(&round.decision));
+        discrimination_text(&mut s, round);
         if let Some(effect) = round.decision.chosen() {
             if let Some(f) = round.fits.iter().find(|f| f.effect == effect) {
                 chosen_text(&mut s, f, &round.fits, &round_base(cal, k));

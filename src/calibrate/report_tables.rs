@@ -388,3 +388,34 @@ pub(super) fn pairs_table(s: &mut String, round: &Round) {
     }
     s.push('\n');
 }
+
+/// For an undetermined round: the measurements that would tell its two leading explanations
+/// apart, best first, with the χ² separation each gives at the data's noise.
+pub(super) fn discrimination_text(s: &mut String, round: &Round) {
+    let Some(d) = &round.discrimination else {
+        return;
+    };
+    let _ = writeln!(
+        s,
+        "**What would tell them apart** ({} or {}; χ² that data made by the first would show \
+         against the second, one degree per curve, noise aside; {} runs):\n\n\
+         | measurement | χ² separation |\n|---|---|",
+        d.between[0], d.between[1], d.runs
+    );
+    for p in &d.proposals {
+        let _ = writeln!(s, "| {} | {:.2} |", p.what, p.separation);
+    }
+    if let Some(best) = d.proposals.first() {
+        let q = super::gap::chi2_quantile_95(1);
+        let _ = writeln!(
+            s,
+            "\nProposed: {} ({}).\n",
+            best.what,
+            if best.separation > q {
+                format!("separates them beyond χ²₉₅(1) = {q:.2}")
+            } else {
+                format!("does not reach χ²₉₅(1) = {q:.2}: more samples or smaller σ needed")
+            }
+        );
+    }
+}

@@ -9,6 +9,7 @@ use super::effects::Effect;
 use super::gap::{gap, Gap, Prediction};
 use super::grid::Grid;
 use super::leaders::{confirm_pairs, polish_leaders};
+use super::discriminate::{discriminate, leading_explanations, Discrimination};
 use super::pairs::{fit_pairs, PairFit};
 use super::measured::{Geometry, MeasuredSet};
 use super::outside::{outside_library, single_observable, OutsideLibrary};
@@ -103,6 +104,9 @@ pub struct Round {
     pub applied: Option<(Effect, f64)>,
     /// The second effect applied with it when the round chose a pair.
     pub applied_partner: Option<(Effect, f64)>,
+    /// For an undetermined decision: the measurements that would tell its two leading
+    /// explanations apart, best first.
+    pub discrimination: Option<Discrimination>,
     pub gap_after: Option<Gap>,
     /// The correction did not lower χ² when re-simulated, so it was not kept.
     pub rejected: bool,
@@ -238,7 +242,7 @@ pub(super) fn search_round(
         before.curves.len(),
         before.threshold
     ));
-    let (mut grids, detection, size_screened) =
+    let (mut grids, detection, size_screened, small_dropped) =
         screen_round(predictor, now, applied, &before, round)?;
     let mut r = Round {
         gap_before: before.clone(),
@@ -252,6 +256,7 @@ pub(super) fn search_round(
         decision: Decision::WithinNoise,
         applied: None,
         applied_partner: None,
+        discrimination: None,
         gap_after: None,
         rejected: false,
     };
@@ -280,7 +285,12 @@ pub(super) fn search_round(
     refine(predictor, now, &mut grids, &r.pruned, round)?;
     let (fits, single_decision, polished) =
         polish_leaders(predictor, now, &mut grids, &before, round)?;
-    let pairs = fit_pairs(measured, &grids, now.predictions, &fits);
+    // An effect that explains little alone can be half of a pair: the pairs are fitted over
+    // every screened effect, those the smaller screen dropped included (their responses on
+    // the smaller samples, added to the current model like the others'); only simulated pairs
+    // enter the decision.
+    let all_grids: Vec<Grid> = grids.iter().chain(&small_dropped).cloned().collect();
+    let pairs = fit_pairs(measured, &all_grids, now.predictions, &fits, &r.detection);
     let (decision, pairs, simulated_pairs) =
         confirm_pairs(predictor, now, &fits, pairs, single_decision, round)?;
     r.single = single_observable(measured, &before, &grids);
@@ -290,13 +300,24 @@ pub(super) fn search_round(
     let kept: Option<(Vec<(Effect, f64)>, Vec<Prediction>)> = match decision.chosen_pair() {
         Some(pair) => simulated_pairs
             .into_iter()
-            .find(|(both, _)| both.map(|b| b.0) == pair)
+            .filter(|(both, _)| both.map(|b| b.0) == pair)
+            .min_by(|a, b| gap(measured, &a.1).chi2.total_cmp(&gap(measured, &b.1).chi2))
             .map(|(both, p)| (both.to_vec(), p)),
         None => decision
             .chosen()
             .and_then(|e| polished.into_iter().find(|p| p.0 == e))
             .map(|(e, f, p)| (vec![(e, f)], p)),
     };
+    if let Some(two) = leading_explanations(&decision, &fits, &pairs, now.config) {
+        let d = discriminate(measured, two, settings, predictor.cache, progress)?;
+        if let Some(best) = d.proposals.first() {
+            progress(&format!(
+                "round {round}: {} or {}: {} would separate them by chi2 {:.2}",
+                d.between[0], d.between[1], best.what, best.separation
+            ));
+        }
+        r.discrimination = Some(d);
+    }
     (r.fits, r.pairs, r.decision) = (fits, pairs, decision);
     let Some((chosen, after_predictions)) = kept else {
         return Ok((r, None));
@@ -324,8 +345,8 @@ pub(super) fn search_round(
 
 /// A round's screen: every effect not of an applied effect's family, on a smaller sample
 /// first where asked (and the gap is beyond noise), with the detection limits it gives.
-/// Returns the grids screened at the target size, the limits, and what the smaller screen
-/// dropped.
+/// Returns the grids screened at the target size, the limits, what the smaller screen
+/// dropped, and the grids it dropped.
 #[allow(clippy::type_complexity)]
 fn screen_round(
     predictor: &mut Predictor,
@@ -333,7 +354,15 @@ fn screen_round(
     applied: &[(Effect, f64)],
     before: &Gap,
     round: usize,
-) -> Result<(Vec<Grid>, Vec<DetectionLimit>, Option<(usize, Vec<Effect>)>), String> {
+) -> Result<
+    (
+        Vec<Grid>,
+        Vec<DetectionLimit>,
+        Option<(usize, Vec<Effect>)>,
+        Vec<Grid>,
+    ),
+    String,
+> {
     let (measured, settings, progress) =
         (predictor.measured, predictor.settings, predictor.progress);
     let has_omni = measured
@@ -378,7 +407,7 @@ fn screen_round(
         ));
         (settings.screen_monomers, dropped)
     });
-    Ok((grids, detection, size_screened))
+    Ok((grids, detection, size_screened, small))
 }
 
 /// What a planned data set and system size can resolve: the detection limits from the

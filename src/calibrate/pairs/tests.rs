@@ -66,7 +66,7 @@ fn two_effects_on_two_curves_are_found_together_and_named_as_a_pair() {
     let b = linear(Effect::SurfaceEnergy, 0.0, 0.05);
     let grids = [a, b];
     let (fits, single) = attribute(&m, &base, &grids);
-    let pairs = fit_pairs(&m, &grids, &curves(0.25, 0.25), &fits);
+    let pairs = fit_pairs(&m, &grids, &curves(0.25, 0.25), &fits, &[]);
     assert_eq!(pairs.len(), 1);
     let p = &pairs[0];
     assert!(p.alone.iter().all(|&c| (c - 25.0).abs() < 0.01), "{p:?}");
@@ -100,8 +100,8 @@ fn a_single_effect_that_stands_in_for_a_pair_is_not_named_alone() {
     ];
     let (fits, single) = attribute(&m, &base, &grids);
     assert_eq!(single, Decision::Named(Effect::NormalDamping));
-    let pairs = fit_pairs(&m, &grids, &curves(0.25, 0.25), &fits);
-    assert_eq!(pairs.len(), 3);
+    let pairs = fit_pairs(&m, &grids, &curves(0.25, 0.25), &fits, &[]);
+    assert_eq!(pairs.len(), 3, "no detection limits given: free fits only");
     assert_eq!(
         reconsider(single, &fits, &pairs),
         Decision::Undetermined {
@@ -131,7 +131,7 @@ fn a_single_hidden_effect_stays_named_when_pairs_only_add_a_spare_effect() {
     ];
     let (fits, single) = attribute(&m, &base, &grids);
     assert_eq!(single, Decision::Named(Effect::RollingStiffness));
-    let pairs = fit_pairs(&m, &grids, &curves(0.25, 0.25), &fits);
+    let pairs = fit_pairs(&m, &grids, &curves(0.25, 0.25), &fits, &[]);
     assert!(pairs.iter().all(|p| !p.needs_both()), "{pairs:?}");
     assert_eq!(
         reconsider(single.clone(), &fits, &pairs),
@@ -158,5 +158,60 @@ fn effects_of_one_family_are_not_paired() {
     let grids = [form, linear(Effect::NormalDamping, 0.0, 0.05)];
     let base = gap(&m, &curves(0.25, 0.25));
     let (fits, _) = attribute(&m, &base, &grids);
-    assert!(fit_pairs(&m, &grids, &curves(0.25, 0.25), &fits).is_empty());
+    assert!(fit_pairs(&m, &grids, &curves(0.25, 0.25), &fits, &[]).is_empty());
+}
+
+/// The single effect S fits exactly; C moves omni like S and uni half as much. With C held at
+/// its detection limit (λ = (25 + 6.25) u² > χ²₉₅(2) − 2 = 3.99: u = 0.357 by hand), S at
+/// u = 0.732 leaves ±0.0045 on each curve, χ² ≈ 0.40 by hand: S with C present at a level
+/// the data would show alone fits within Δχ² = 2 of S alone, and C alone (χ² 5 at u = 1.2)
+/// does not, so S is not singled out. A, which moves omni only, cannot be compensated by S
+/// (S must keep uni): held at its limit it leaves χ² 4, and is no alternative with S; but C
+/// at u = 2 with A at u = −1 fits exactly (uni 0.05, omni 0.10 − 0.05), a free pair that
+/// needs both.
+#[test]
+fn a_second_effect_at_a_detectable_level_that_the_first_compensates_leaves_it_undetermined() {
+    use crate::calibrate::detection::detection_limit;
+    let m = omni_and_uni();
+    let base = gap(&m, &curves(0.25, 0.25));
+    let s = linear(Effect::NormalDamping, 0.05, 0.05);
+    let c = linear(Effect::RollingStiffness, 0.05, 0.025);
+    let a = linear(Effect::SurfaceEnergy, 0.05, 0.0);
+    let grids = [s, c, a];
+    let (fits, single) = attribute(&m, &base, &grids);
+    assert_eq!(single, Decision::Named(Effect::NormalDamping));
+    let detection: Vec<_> = grids
+        .iter()
+        .filter_map(|g| detection_limit(&m, g))
+        .collect();
+    let limit_c = detection[1].upper.unwrap().ln();
+    assert!((limit_c - 0.357).abs() < 0.01, "{limit_c}");
+    let pairs = fit_pairs(&m, &grids, &curves(0.25, 0.25), &fits, &detection);
+    let pinned_c = pairs
+        .iter()
+        .find(|p| p.effects == [Effect::NormalDamping, Effect::RollingStiffness] && p.pinned == Some(1))
+        .unwrap();
+    // Held either way (the responses are linear, the limits symmetric) on the scan's coarse
+    // points beyond the limit (steps of ln 64 / 32 = 0.13 in u): χ² grows as u², from 0.40 at
+    // the limit to at most 0.40 (0.487 / 0.357)² = 0.75 a step beyond.
+    let u_c = pinned_c.factors[1].ln().abs();
+    assert!(u_c >= limit_c - 1e-9 && u_c <= limit_c + 0.13, "{pinned_c:?}");
+    let by_hand = 0.40 * (u_c / 0.357).powi(2);
+    assert!((pinned_c.chi2 / by_hand - 1.0).abs() < 0.05, "{pinned_c:?} vs {by_hand}");
+    assert!(pinned_c.needs_both());
+    let pinned_a = pairs
+        .iter()
+        .find(|p| p.effects == [Effect::NormalDamping, Effect::SurfaceEnergy] && p.pinned == Some(1))
+        .unwrap();
+    assert!(pinned_a.chi2 > 3.0, "{pinned_a:?}");
+    assert_eq!(
+        reconsider(single, &fits, &pairs),
+        Decision::Undetermined {
+            singles: vec![Effect::NormalDamping],
+            pairs: vec![
+                [Effect::RollingStiffness, Effect::SurfaceEnergy],
+                [Effect::NormalDamping, Effect::RollingStiffness]
+            ],
+        }
+    );
 }
