@@ -98,7 +98,10 @@ fn the_committed_real_data_reports_rebuild_from_their_run_cache() {
             .arg(&out)
             .arg("--cache")
             .arg(&cache)
-            .arg("--cache-only");
+            .arg("--cache-only")
+            // The search these reports were made with: one range end screened, single
+            // effects only (docs/calibration/real/README.md).
+            .args(["--screen-upper-end-only", "--single-effects-only"]);
         if plan {
             cmd.arg("--plan");
         }

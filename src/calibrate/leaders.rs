@@ -136,14 +136,27 @@ pub fn confirm_pairs(
         let next = rival_pairs(&pairs, best_single)
             .into_iter()
             .find(|p| p.simulated_chi2.is_none())
-            .map(|p| p.effects);
+            .map(|p| (p.effects, p.pinned));
         let (Some(effects), true) = (next, simulated.len() < CONFIRMED_PAIRS) else {
             return Ok((settled, pairs, simulated));
         };
         if matches!(decision, Decision::WithinNoise) {
             return Ok((settled, pairs, simulated));
         }
-        let p = pairs.iter_mut().find(|p| p.effects == effects).expect("pair");
+        let k = pairs
+            .iter()
+            .position(|p| (p.effects, p.pinned) == effects)
+            .expect("pair");
+        // A pinned fit whose free fit already held the partner beyond its limit is the same
+        // model: its simulated χ² is the free one's.
+        let twin = pairs.iter().find(|q| {
+            q.simulated_chi2.is_some() && q.effects == pairs[k].effects && q.factors == pairs[k].factors
+        });
+        if let Some(c) = twin.and_then(|q| q.simulated_chi2) {
+            pairs[k].simulated_chi2 = Some(c);
+            continue;
+        }
+        let p = &mut pairs[k];
         let both = [(p.effects[0], p.factors[0]), (p.effects[1], p.factors[1])];
         let config = both
             .iter()

@@ -94,7 +94,11 @@ pub fn outside_library(
             .map(|e| e.name().to_string())
             .chain(pairs.iter().map(|p| format!("{} + {}", p[0].name(), p[1].name())))
             .collect();
-        signs.push(format!("the best explanations tie ({})", names.join(", ")));
+        let what = match pairs.is_empty() {
+            true => "effects",
+            false => "explanations",
+        };
+        signs.push(format!("the best {what} tie ({})", names.join(", ")));
     }
     let on_bound: Vec<&str> = fits
         .iter()

@@ -133,9 +133,14 @@ pub fn combine(current: &Prediction, a: &Prediction, b: &Prediction) -> Predicti
     }
 }
 
+/// Curves a data set needs before pairs are fitted: a pair fits two curves exactly whatever
+/// the truth, so only a third can tell a pair from a single effect.
+pub const PAIR_MIN_CURVES: usize = 3;
+
 /// Every pair of grids of two families, fitted jointly, sorted by χ² (best first); and for
 /// each pair and each of its effects with a detection limit, the joint fit with that effect
-/// held at or beyond its limit ([`PairFit::pinned`]).
+/// held at or beyond its limit ([`PairFit::pinned`]). None with fewer than
+/// [`PAIR_MIN_CURVES`] curves.
 pub fn fit_pairs(
     m: &MeasuredSet,
     grids: &[Grid],
@@ -144,6 +149,9 @@ pub fn fit_pairs(
     detection: &[DetectionLimit],
 ) -> Vec<PairFit> {
     let mut pairs = Vec::new();
+    if m.curve_count() < PAIR_MIN_CURVES {
+        return pairs;
+    }
     for (i, a) in grids.iter().enumerate() {
         for b in &grids[i + 1..] {
             if a.effect.family() == b.effect.family() || a.points.len() < 2 || b.points.len() < 2
@@ -305,12 +313,20 @@ fn fit_pair(
     out
 }
 
-/// The pairs a decision from single effects must answer to: those that need both effects
-/// and fit within [`TIE_DELTA_CHI2`] of the best single effect, or better.
+/// The pairs a decision from single effects must answer to: those that need both effects and
+/// fit within [`TIE_DELTA_CHI2`] of the best single effect, or better; a pinned fit only when
+/// it fits better than the best single effect by more than [`TIE_DELTA_CHI2`] (the data
+/// prefer the partner present at a level they would show alone). At Δχ² = 0 a true single
+/// effect on three samples per curve lost its name to a partner at its detection limit
+/// (surface energy ×2: χ² 3.17 alone, 1.49 with the density at its limit).
 pub fn rival_pairs<'a>(pairs: &'a [PairFit], best_single: f64) -> Vec<&'a PairFit> {
+    let margin = |p: &PairFit| match p.pinned {
+        None => TIE_DELTA_CHI2,
+        Some(_) => -TIE_DELTA_CHI2,
+    };
     let mut rivals: Vec<&PairFit> = pairs
         .iter()
-        .filter(|p| p.needs_both() && p.chi2_used() < best_single + TIE_DELTA_CHI2)
+        .filter(|p| p.needs_both() && p.chi2_used() < best_single + margin(p))
         .collect();
     rivals.sort_by(|a, b| a.chi2_used().total_cmp(&b.chi2_used()));
     rivals
@@ -338,9 +354,9 @@ fn distinct(pairs: &[&PairFit]) -> Vec<[Effect; 2]> {
 }
 
 /// The decision from single effects, revisited with the pairs: a single effect stays named
-/// only when no pair that needs both its effects fits within [`TIE_DELTA_CHI2`] of it (a
-/// pair with one effect held at its detection limit included: the single effect with another
-/// at a level the data would show alone); a pair fitted freely is named when it beats every
+/// only when no pair that needs both its effects fits within [`TIE_DELTA_CHI2`] of it, and no
+/// pair with one effect held at its detection limit (the single effect with another at a
+/// level the data would show alone) fits better by more than that; a pair fitted freely is named when it beats every
 /// single effect by more than χ²₉₅(1) (one more parameter) and no other pair comes within
 /// [`TIE_DELTA_CHI2`] of it; otherwise the result is undetermined, with every single effect
 /// and pair within reach listed.

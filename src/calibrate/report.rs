@@ -436,12 +436,20 @@ fn search_text(cal: &Calibration) -> String {
         )
     };
     format!(
-        "{screen}; effects that cannot come near the best {}{}; {} compressions{} and {} \
-         sticking runs requested",
+        "{screen}; each effect screened at {}; effects that cannot come near the best {}{}{}; \
+         {} compressions{} and {} sticking runs requested",
+        match cal.settings.both_ends {
+            true => "both ends of its range",
+            false => "the upper end of its range only",
+        },
         if cal.settings.prune {
             "dropped after the screen"
         } else {
             "kept"
+        },
+        match cal.settings.pairs {
+            true => "; pairs of effects fitted jointly, those the decision rests on simulated",
+            false => "; single effects only",
         },
         match cal.settings.revisit {
             true => "; applied effects revisited with the others in",

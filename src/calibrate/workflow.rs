@@ -39,6 +39,11 @@ pub struct Settings {
     /// Screen at both ends of each effect's range (the default) instead of the upper end
     /// only: an effect is then pruned only on runs on both sides of its factor 1.
     pub both_ends: bool,
+    /// Fit pairs of effects jointly and let them into the decision ([`super::pairs`]), and
+    /// propose the measurement that separates an undetermined result's leading explanations
+    /// ([`super::discriminate`]). Off: the single-effect search the older committed
+    /// calibrations were made with.
+    pub pairs: bool,
     pub threads: usize,
     /// Effects added one after the other at most.
     pub max_rounds: usize,
@@ -66,6 +71,7 @@ impl Default for Settings {
             screen_monomers: 0,
             prune: true,
             both_ends: true,
+            pairs: true,
             threads: std::thread::available_parallelism().map_or(2, |n| n.get()),
             max_rounds: 2,
             candidates: 3,
@@ -289,10 +295,13 @@ pub(super) fn search_round(
     // every screened effect, those the smaller screen dropped included (their responses on
     // the smaller samples, added to the current model like the others'); only simulated pairs
     // enter the decision.
-    let all_grids: Vec<Grid> = grids.iter().chain(&small_dropped).cloned().collect();
-    let pairs = fit_pairs(measured, &all_grids, now.predictions, &fits, &r.detection);
-    let (decision, pairs, simulated_pairs) =
-        confirm_pairs(predictor, now, &fits, pairs, single_decision, round)?;
+    let (decision, pairs, simulated_pairs) = if settings.pairs {
+        let all_grids: Vec<Grid> = grids.iter().chain(&small_dropped).cloned().collect();
+        let pairs = fit_pairs(measured, &all_grids, now.predictions, &fits, &r.detection);
+        confirm_pairs(predictor, now, &fits, pairs, single_decision, round)?
+    } else {
+        (single_decision, Vec::new(), Vec::new())
+    };
     r.single = single_observable(measured, &before, &grids);
     r.outside = outside_library(&before, &fits, &decision, !measured.compression.is_empty());
     report_fits(progress, round, &fits, &decision);
@@ -308,7 +317,8 @@ pub(super) fn search_round(
             .and_then(|e| polished.into_iter().find(|p| p.0 == e))
             .map(|(e, f, p)| (vec![(e, f)], p)),
     };
-    if let Some(two) = leading_explanations(&decision, &fits, &pairs, now.config) {
+    let two = leading_explanations(&decision, &fits, &pairs, now.config);
+    if let Some(two) = two.filter(|_| settings.pairs) {
         let d = discriminate(measured, two, settings, predictor.cache, progress)?;
         if let Some(best) = d.proposals.first() {
             progress(&format!(

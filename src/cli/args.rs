@@ -113,6 +113,11 @@ pub(super) enum Command {
         /// were screened: an effect is then pruned on its scaled response, which is no bound).
         #[arg(long)]
         screen_upper_end_only: bool,
+        /// Single effects only: no joint fits of pairs and no proposed discriminating
+        /// measurement (the search before pairs, which the committed real-data calibrations
+        /// were made with).
+        #[arg(long)]
+        single_effects_only: bool,
         /// Effects added one after the other at most.
         #[arg(long, default_value_t = 2)]
         rounds: usize,

@@ -71,6 +71,7 @@ pub fn main() -> ExitCode {
             screen_monomers,
             no_prune,
             screen_upper_end_only,
+            single_effects_only,
             rounds,
             revisit,
             threads,
@@ -94,6 +95,7 @@ pub fn main() -> ExitCode {
                 screen_monomers,
                 prune: !no_prune,
                 both_ends: !screen_upper_end_only,
+                pairs: !single_effects_only,
                 max_rounds: rounds,
                 revisit,
                 ..Settings::default()

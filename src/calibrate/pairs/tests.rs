@@ -2,25 +2,37 @@ use super::*;
 use crate::calibrate::attribution::attribute;
 use crate::calibrate::gap::TARGETS;
 
-/// Omni and uni curves, each measured at φ = 0.30 at two pressures with σ = 0.01.
-fn omni_and_uni() -> MeasuredSet {
-    let curve = |g: &str| {
+/// Omni and uni curves measured at φ `omni` and `uni` at two pressures with σ = 0.01, and a
+/// sticking velocity of 1 ± 0.05 m/s that no effect here moves: three curves, the fewest
+/// that pairs are fitted on ([`PAIR_MIN_CURVES`]).
+fn data(omni: f64, uni: f64) -> MeasuredSet {
+    let curve = |g: &str, phi: f64| {
         format!(
-            "[[compression]]\ngeometry = \"{g}\"\npressure_pa = [1e2, 1e5]\nphi = [0.3, 0.3]\n\
+            "[[compression]]\ngeometry = \"{g}\"\npressure_pa = [1e2, 1e5]\nphi = [{phi}, {phi}]\n\
              phi_sigma = 0.01\n"
         )
     };
-    MeasuredSet::parse(&(curve("omni") + &curve("uni")), "t").unwrap()
+    let sticking = "[[sticking]]\nvelocity_m_s = 1.0\nsigma_m_s = 0.05\n";
+    MeasuredSet::parse(&(curve("omni", omni) + &curve("uni", uni) + sticking), "t").unwrap()
+}
+
+fn omni_and_uni() -> MeasuredSet {
+    data(0.3, 0.3)
 }
 
 fn curves(omni: f64, uni: f64) -> Vec<Prediction> {
-    [omni, uni]
+    let mut p: Vec<Prediction> = [omni, uni]
         .map(|phi| Prediction::Compression {
             phi: vec![phi; TARGETS],
             scatter: vec![0.0; TARGETS],
             seeds: 3,
         })
-        .to_vec()
+        .to_vec();
+    p.push(Prediction::Sticking {
+        velocity: 1.0,
+        resolution: 0.0,
+    });
+    p
 }
 
 /// An effect moving omni by `omni` and uni by `uni` per unit ln factor from (0.25, 0.25),
@@ -116,13 +128,7 @@ fn a_single_effect_that_stands_in_for_a_pair_is_not_named_alone() {
 /// stays named.
 #[test]
 fn a_single_hidden_effect_stays_named_when_pairs_only_add_a_spare_effect() {
-    let m = MeasuredSet::parse(
-        "[[compression]]\ngeometry = \"omni\"\npressure_pa = [1e2, 1e5]\nphi = [0.3, 0.3]\n\
-         phi_sigma = 0.01\n[[compression]]\ngeometry = \"uni\"\npressure_pa = [1e2, 1e5]\n\
-         phi = [0.25, 0.25]\nphi_sigma = 0.01\n",
-        "t",
-    )
-    .unwrap();
+    let m = data(0.3, 0.25);
     let base = gap(&m, &curves(0.25, 0.25));
     let grids = [
         linear(Effect::RollingStiffness, 0.05, 0.0),
@@ -161,57 +167,135 @@ fn effects_of_one_family_are_not_paired() {
     assert!(fit_pairs(&m, &grids, &curves(0.25, 0.25), &fits, &[]).is_empty());
 }
 
-/// The single effect S fits exactly; C moves omni like S and uni half as much. With C held at
-/// its detection limit (λ = (25 + 6.25) u² > χ²₉₅(2) − 2 = 3.99: u = 0.357 by hand), S at
-/// u = 0.732 leaves ±0.0045 on each curve, χ² ≈ 0.40 by hand: S with C present at a level
-/// the data would show alone fits within Δχ² = 2 of S alone, and C alone (χ² 5 at u = 1.2)
-/// does not, so S is not singled out. A, which moves omni only, cannot be compensated by S
-/// (S must keep uni): held at its limit it leaves χ² 4, and is no alternative with S; but C
-/// at u = 2 with A at u = −1 fits exactly (uni 0.05, omni 0.10 − 0.05), a free pair that
-/// needs both.
+/// Data at omni 0.30, uni 0.29. S moves both curves by 0.05 per unit ln factor: alone it
+/// leaves ±0.005 on each, χ² = 0.5 by hand. C moves omni by 0.05 and uni by 0.0125: alone
+/// χ² = 7.1. With C held at u_c, S's best leaves χ² = (3.75 u_c − 1)² / 2 by hand; at C's
+/// detection limit (λ = 26.56 u² > χ²₉₅(3) − 3 = 4.775: u_c = 0.424) that is 0.17. It fits
+/// better than S alone, but by less than Δχ² = 2: no evidence for C, and no rival. A moves
+/// omni only: held at its limit with S, χ² 0.70. C with A fits within Δχ² = 2 of S (C at the
+/// end of its range, χ² 1.96), a free pair that needs both: the result is undetermined.
 #[test]
-fn a_second_effect_at_a_detectable_level_that_the_first_compensates_leaves_it_undetermined() {
+fn pinned_fits_follow_the_hand_computed_chi2_and_free_pairs_tie() {
     use crate::calibrate::detection::detection_limit;
-    let m = omni_and_uni();
+    let m = data(0.3, 0.29);
     let base = gap(&m, &curves(0.25, 0.25));
     let s = linear(Effect::NormalDamping, 0.05, 0.05);
-    let c = linear(Effect::RollingStiffness, 0.05, 0.025);
+    let c = linear(Effect::RollingStiffness, 0.05, 0.0125);
     let a = linear(Effect::SurfaceEnergy, 0.05, 0.0);
     let grids = [s, c, a];
     let (fits, single) = attribute(&m, &base, &grids);
     assert_eq!(single, Decision::Named(Effect::NormalDamping));
+    assert!((fits[0].chi2 - 0.5).abs() < 0.01, "{}", fits[0].chi2);
     let detection: Vec<_> = grids
         .iter()
         .filter_map(|g| detection_limit(&m, g))
         .collect();
     let limit_c = detection[1].upper.unwrap().ln();
-    assert!((limit_c - 0.357).abs() < 0.01, "{limit_c}");
+    assert!((limit_c - 0.424).abs() < 0.01, "{limit_c}");
     let pairs = fit_pairs(&m, &grids, &curves(0.25, 0.25), &fits, &detection);
-    let pinned_c = pairs
-        .iter()
-        .find(|p| p.effects == [Effect::NormalDamping, Effect::RollingStiffness] && p.pinned == Some(1))
-        .unwrap();
-    // Held either way (the responses are linear, the limits symmetric) on the scan's coarse
-    // points beyond the limit (steps of ln 64 / 32 = 0.13 in u): χ² grows as u², from 0.40 at
-    // the limit to at most 0.40 (0.487 / 0.357)² = 0.75 a step beyond.
-    let u_c = pinned_c.factors[1].ln().abs();
+    let pinned = |e: [Effect; 2]| {
+        pairs
+            .iter()
+            .find(|p| p.effects == e && p.pinned == Some(1))
+            .unwrap()
+    };
+    let pinned_c = pinned([Effect::NormalDamping, Effect::RollingStiffness]);
+    let u_c = pinned_c.factors[1].ln();
     assert!(u_c >= limit_c - 1e-9 && u_c <= limit_c + 0.13, "{pinned_c:?}");
-    let by_hand = 0.40 * (u_c / 0.357).powi(2);
-    assert!((pinned_c.chi2 / by_hand - 1.0).abs() < 0.05, "{pinned_c:?} vs {by_hand}");
-    assert!(pinned_c.needs_both());
-    let pinned_a = pairs
-        .iter()
-        .find(|p| p.effects == [Effect::NormalDamping, Effect::SurfaceEnergy] && p.pinned == Some(1))
-        .unwrap();
-    assert!(pinned_a.chi2 > 3.0, "{pinned_a:?}");
+    let by_hand = (3.75 * u_c - 1.0).powi(2) / 2.0;
+    assert!((pinned_c.chi2 - by_hand).abs() < 0.01, "{pinned_c:?} vs {by_hand}");
+    let pinned_a = pinned([Effect::NormalDamping, Effect::SurfaceEnergy]);
+    assert!(pinned_a.chi2 > 0.6, "{pinned_a:?}");
     assert_eq!(
         reconsider(single, &fits, &pairs),
         Decision::Undetermined {
             singles: vec![Effect::NormalDamping],
-            pairs: vec![
-                [Effect::RollingStiffness, Effect::SurfaceEnergy],
-                [Effect::NormalDamping, Effect::RollingStiffness]
-            ],
+            pairs: vec![[Effect::RollingStiffness, Effect::SurfaceEnergy]],
         }
     );
+}
+
+fn pair(effects: [Effect; 2], chi2: f64, alone: [f64; 2], pinned: Option<usize>) -> PairFit {
+    PairFit {
+        effects,
+        factors: [2.0, 2.0],
+        intervals: [(1.5, 2.5); 2],
+        chi2,
+        alone,
+        on_bound: [false; 2],
+        pinned,
+        simulated_chi2: Some(chi2),
+    }
+}
+
+/// The rule on its own: S alone at χ² 5. A pinned partner that improves on S by 2.5 (more
+/// than the tie) is a rival; by 1.5, not; a free pair within 2 above S that needs both is a
+/// rival; one that beats S by more than χ²₉₅(1) = 3.75 alone is named; two such are tied.
+#[test]
+fn the_decision_rule_for_pinned_and_free_pairs() {
+    let s = Effect::NormalDamping;
+    let x = Effect::CriticalRollingLength;
+    let (b, c) = (Effect::RollingStiffness, Effect::SurfaceEnergy);
+    let fit = EffectFit {
+        effect: s,
+        factor: 0.5,
+        interval: (0.45, 0.55),
+        chi2: 5.0,
+        explained: 0.9,
+        chi2_at_range_ends: (50.0, 50.0),
+        confidence: 1.0,
+        grid_factors: vec![0.125, 1.0, 4.0],
+        bound: None,
+        held_out: Vec::new(),
+    };
+    let fits = [fit];
+    let named = Decision::Named(s);
+    let undetermined = |pairs: Vec<[Effect; 2]>| Decision::Undetermined {
+        singles: vec![s],
+        pairs,
+    };
+    let strong = pair([s, x], 2.5, [5.0, 40.0], Some(1));
+    assert_eq!(reconsider(named.clone(), &fits, &[strong]), undetermined(vec![[s, x]]));
+    let weak = pair([s, x], 3.5, [5.0, 40.0], Some(1));
+    assert_eq!(reconsider(named.clone(), &fits, &[weak]), named);
+    let tie = pair([b, c], 6.5, [30.0, 30.0], None);
+    assert_eq!(reconsider(named.clone(), &fits, &[tie]), undetermined(vec![[b, c]]));
+    let far = pair([b, c], 7.5, [30.0, 30.0], None);
+    assert_eq!(reconsider(named.clone(), &fits, &[far]), named);
+    let better = pair([b, c], 1.0, [30.0, 30.0], None);
+    assert_eq!(
+        reconsider(named.clone(), &fits, std::slice::from_ref(&better)),
+        Decision::NamedPair([b, c])
+    );
+    let also = pair([s, x], 1.5, [30.0, 30.0], None);
+    assert_eq!(
+        reconsider(named, &fits, &[better, also]),
+        Decision::Undetermined {
+            singles: Vec::new(),
+            pairs: vec![[b, c], [s, x]],
+        }
+    );
+}
+
+/// Two curves: a pair fits any two exactly, so none is fitted.
+#[test]
+fn no_pairs_on_fewer_than_three_curves() {
+    let m = MeasuredSet::parse(
+        "[[compression]]\ngeometry = \"omni\"\npressure_pa = [1e2, 1e5]\nphi = [0.3, 0.3]\n\
+         phi_sigma = 0.01\n[[sticking]]\nvelocity_m_s = 1.0\nsigma_m_s = 0.05\n",
+        "t",
+    )
+    .unwrap();
+    let mut g = Grid::new(Effect::RollingStiffness);
+    let mut h = Grid::new(Effect::SurfaceEnergy);
+    for f in [0.5f64, 1.0, 2.0] {
+        let p = vec![
+            curves(0.25 + 0.05 * f.ln(), 0.0)[0].clone(),
+            curves(0.0, 0.0)[2].clone(),
+        ];
+        g.insert(f.ln(), p.clone());
+        h.insert(f.ln(), p);
+    }
+    let current = vec![curves(0.25, 0.0)[0].clone(), curves(0.0, 0.0)[2].clone()];
+    assert!(fit_pairs(&m, &[g, h], &current, &[], &[]).is_empty());
 }
