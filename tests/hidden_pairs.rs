@@ -40,15 +40,24 @@ const CONFIG: &str = "configs/calibrate_quick.toml";
 const CASES: [(&str, [(Effect, f64); 2]); 4] = [
     (
         "rolling_stiffness-4_normal_damping-2",
-        [(Effect::RollingStiffness, 4.0), (Effect::NormalDamping, 2.0)],
+        [
+            (Effect::RollingStiffness, 4.0),
+            (Effect::NormalDamping, 2.0),
+        ],
     ),
     (
         "surface_energy-0.75_twisting_stiffness-6",
-        [(Effect::SurfaceEnergy, 0.75), (Effect::TwistingStiffness, 6.0)],
+        [
+            (Effect::SurfaceEnergy, 0.75),
+            (Effect::TwistingStiffness, 6.0),
+        ],
     ),
     (
         "side_wall_strength-300_surface_energy-1.5",
-        [(Effect::SideWallStrength, 300.0), (Effect::SurfaceEnergy, 1.5)],
+        [
+            (Effect::SideWallStrength, 300.0),
+            (Effect::SurfaceEnergy, 1.5),
+        ],
     ),
     (
         "critical_rolling_length-4_normal_damping-0.5",
@@ -70,8 +79,21 @@ fn the_hidden_pair_calibrations_rebuild_from_their_run_cache() {
         let out = scratch.join(dir);
         let result = Command::new(env!("CARGO_BIN_EXE_dustdem"))
             .current_dir(repo(""))
-            .args(["calibrate", "--measured", &measured(dir), "--config", CONFIG])
-            .args(["--seeds", "1,2,3", "--screen-monomers", "60", "--threads", "2"])
+            .args([
+                "calibrate",
+                "--measured",
+                &measured(dir),
+                "--config",
+                CONFIG,
+            ])
+            .args([
+                "--seeds",
+                "1,2,3",
+                "--screen-monomers",
+                "60",
+                "--threads",
+                "2",
+            ])
             .args(["--cache-only", "--cache"])
             .arg(repo(&format!("{DIR}/run_cache")))
             .arg("--out")
@@ -120,7 +142,10 @@ fn assert_no_wrong_name(dir: &str, cal: &Calibration, hidden: [(Effect, f64); 2]
             }
             Decision::Undetermined { .. } => {
                 let d = round.discrimination.as_ref().expect("a proposal");
-                assert!(d.proposals.windows(2).all(|w| w[0].separation >= w[1].separation));
+                assert!(d
+                    .proposals
+                    .windows(2)
+                    .all(|w| w[0].separation >= w[1].separation));
             }
             Decision::WithinNoise | Decision::NoEffectExplains => {}
         }

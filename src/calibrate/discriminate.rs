@@ -7,8 +7,8 @@
 
 use super::attribution::{Decision, EffectFit};
 use super::gap::shift_chi2;
-use super::pairs::{find_pair, PairFit};
 use super::measured::{log_spaced, CompressionCurve, Geometry, MeasuredSet, StickingVelocity};
+use super::pairs::{find_pair, PairFit};
 use super::predictor::Predictor;
 use super::simulate::RunCache;
 use super::workflow::Settings;
@@ -81,7 +81,10 @@ fn candidates(m: &MeasuredSet) -> Vec<(String, MeasuredSet)> {
     let mut out = Vec::new();
     for g in [Geometry::Uni, Geometry::Omni] {
         out.push((
-            format!("the {g:?} curve to {HIGH_PRESSURE:.0e} Pa (σ_φ {sigma:.4})").to_lowercase(),
+            format!(
+                "the {} curve to {HIGH_PRESSURE:.0e} Pa (σ_φ {sigma:.4})",
+                format!("{g:?}").to_lowercase()
+            ),
             set(vec![curve(g, (p_lo, HIGH_PRESSURE), sigma)], Vec::new()),
         ));
     }

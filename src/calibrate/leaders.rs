@@ -150,7 +150,9 @@ pub fn confirm_pairs(
         // A pinned fit whose free fit already held the partner beyond its limit is the same
         // model: its simulated χ² is the free one's.
         let twin = pairs.iter().find(|q| {
-            q.simulated_chi2.is_some() && q.effects == pairs[k].effects && q.factors == pairs[k].factors
+            q.simulated_chi2.is_some()
+                && q.effects == pairs[k].effects
+                && q.factors == pairs[k].factors
         });
         if let Some(c) = twin.and_then(|q| q.simulated_chi2) {
             pairs[k].simulated_chi2 = Some(c);

@@ -26,6 +26,7 @@ pub mod predictor;
 pub mod report;
 mod report_tables;
 mod revisit;
+mod round;
 pub mod search;
 pub mod simulate;
 pub mod slurm;

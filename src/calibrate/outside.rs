@@ -81,9 +81,11 @@ pub fn outside_library(
     }
     let best = fits.first()?;
     let involved: Vec<Effect> = match decision {
-        Decision::Undetermined { singles, pairs } => {
-            singles.iter().chain(pairs.iter().flatten()).copied().collect()
-        }
+        Decision::Undetermined { singles, pairs } => singles
+            .iter()
+            .chain(pairs.iter().flatten())
+            .copied()
+            .collect(),
         Decision::NamedPair(p) => p.to_vec(),
         _ => vec![best.effect],
     };
@@ -92,7 +94,11 @@ pub fn outside_library(
         let names: Vec<String> = singles
             .iter()
             .map(|e| e.name().to_string())
-            .chain(pairs.iter().map(|p| format!("{} + {}", p[0].name(), p[1].name())))
+            .chain(
+                pairs
+                    .iter()
+                    .map(|p| format!("{} + {}", p[0].name(), p[1].name())),
+            )
             .collect();
         let what = match pairs.is_empty() {
             true => "effects",

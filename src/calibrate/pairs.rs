@@ -154,8 +154,7 @@ pub fn fit_pairs(
     }
     for (i, a) in grids.iter().enumerate() {
         for b in &grids[i + 1..] {
-            if a.effect.family() == b.effect.family() || a.points.len() < 2 || b.points.len() < 2
-            {
+            if a.effect.family() == b.effect.family() || a.points.len() < 2 || b.points.len() < 2 {
                 continue;
             }
             pairs.extend(fit_pair(m, [a, b], current, fits, detection));
@@ -319,7 +318,7 @@ fn fit_pair(
 /// prefer the partner present at a level they would show alone). At Δχ² = 0 a true single
 /// effect on three samples per curve lost its name to a partner at its detection limit
 /// (surface energy ×2: χ² 3.17 alone, 1.49 with the density at its limit).
-pub fn rival_pairs<'a>(pairs: &'a [PairFit], best_single: f64) -> Vec<&'a PairFit> {
+pub fn rival_pairs(pairs: &[PairFit], best_single: f64) -> Vec<&PairFit> {
     let margin = |p: &PairFit| match p.pinned {
         None => TIE_DELTA_CHI2,
         Some(_) => -TIE_DELTA_CHI2,
@@ -335,11 +334,14 @@ pub fn rival_pairs<'a>(pairs: &'a [PairFit], best_single: f64) -> Vec<&'a PairFi
 /// The pair with these effects the decision rests on: simulated before interpolated, then
 /// the lowest χ².
 pub fn find_pair(pairs: &[PairFit], effects: [Effect; 2]) -> Option<&PairFit> {
-    pairs.iter().filter(|p| p.effects == effects).min_by(|a, b| {
-        (a.simulated_chi2.is_none(), a.chi2_used())
-            .partial_cmp(&(b.simulated_chi2.is_none(), b.chi2_used()))
-            .expect("finite")
-    })
+    pairs
+        .iter()
+        .filter(|p| p.effects == effects)
+        .min_by(|a, b| {
+            (a.simulated_chi2.is_none(), a.chi2_used())
+                .partial_cmp(&(b.simulated_chi2.is_none(), b.chi2_used()))
+                .expect("finite")
+        })
 }
 
 /// The effects of each pair, once, in order.

@@ -6,8 +6,8 @@
 use super::effects::Effect;
 use super::gap::{gap, Prediction};
 use super::predictor::Predictor;
+use super::round::{search_round, Round};
 use super::search::Current;
-use super::workflow::{search_round, Round};
 use crate::config::Config;
 
 /// An applied effect searched for again once the effects of the later rounds are in.

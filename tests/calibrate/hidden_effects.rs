@@ -284,7 +284,10 @@ fn without_the_first_screen_the_answer_is_as_right(
     let answer = pair_answer::pair_answer(&full, hidden);
     eprintln!("two-plain: {answer:?}; applied {:?}", full.applied);
     assert!(answer.is_ok(), "{answer:?}");
-    let (size, _) = cal.rounds[0].size_screened.as_ref().expect("a first screen");
+    let (size, _) = cal.rounds[0]
+        .size_screened
+        .as_ref()
+        .expect("a first screen");
     assert_eq!(*size, cal.settings.screen_monomers);
     assert!(full.rounds[0].size_screened.is_none());
     let at_target = |c: &Calibration| c.cost.compressions - c.cost.screen_size_compressions;

@@ -10,11 +10,11 @@
 
 #[path = "../common/mod.rs"]
 mod common;
-#[path = "../common/pair_answer.rs"]
-mod pair_answer;
 mod effects_and_synth;
 mod hidden_effects;
 mod measured_files_and_cli;
+#[path = "../common/pair_answer.rs"]
+mod pair_answer;
 mod sticking_damping;
 
 use common::Scratch;

@@ -43,7 +43,10 @@ pub fn pair_answer(cal: &Calibration, hidden: [(Effect, f64); 2]) -> Result<Stri
             Decision::Undetermined { pairs, .. }
                 if pairs.iter().any(|p| same_families(*p, truth)) =>
             {
-                return Ok(format!("round {}: undetermined, the pair among {pairs:?}", k + 1));
+                return Ok(format!(
+                    "round {}: undetermined, the pair among {pairs:?}",
+                    k + 1
+                ));
             }
             Decision::Named(e) | Decision::Unpredictive { effect: e, .. } => {
                 let fit = round.fits.iter().find(|f| f.effect == *e).ok_or("no fit")?;

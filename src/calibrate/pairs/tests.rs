@@ -90,7 +90,10 @@ fn two_effects_on_two_curves_are_found_together_and_named_as_a_pair() {
         // Δχ² = 1 at |Δu| = 0.2; the coarse profile may add one step (ln 64 / 32 = 0.13).
         let (lo, hi) = p.intervals[k];
         let by_hand = (e * (-0.2f64).exp(), e * 0.2f64.exp());
-        assert!(lo <= by_hand.0 && lo >= by_hand.0 * (-0.14f64).exp(), "{lo}");
+        assert!(
+            lo <= by_hand.0 && lo >= by_hand.0 * (-0.14f64).exp(),
+            "{lo}"
+        );
         assert!(hi >= by_hand.1 && hi <= by_hand.1 * 0.14f64.exp(), "{hi}");
     }
     assert_eq!(
@@ -201,9 +204,15 @@ fn pinned_fits_follow_the_hand_computed_chi2_and_free_pairs_tie() {
     };
     let pinned_c = pinned([Effect::NormalDamping, Effect::RollingStiffness]);
     let u_c = pinned_c.factors[1].ln();
-    assert!(u_c >= limit_c - 1e-9 && u_c <= limit_c + 0.13, "{pinned_c:?}");
+    assert!(
+        u_c >= limit_c - 1e-9 && u_c <= limit_c + 0.13,
+        "{pinned_c:?}"
+    );
     let by_hand = (3.75 * u_c - 1.0).powi(2) / 2.0;
-    assert!((pinned_c.chi2 - by_hand).abs() < 0.01, "{pinned_c:?} vs {by_hand}");
+    assert!(
+        (pinned_c.chi2 - by_hand).abs() < 0.01,
+        "{pinned_c:?} vs {by_hand}"
+    );
     let pinned_a = pinned([Effect::NormalDamping, Effect::SurfaceEnergy]);
     assert!(pinned_a.chi2 > 0.6, "{pinned_a:?}");
     assert_eq!(
@@ -255,11 +264,17 @@ fn the_decision_rule_for_pinned_and_free_pairs() {
         pairs,
     };
     let strong = pair([s, x], 2.5, [5.0, 40.0], Some(1));
-    assert_eq!(reconsider(named.clone(), &fits, &[strong]), undetermined(vec![[s, x]]));
+    assert_eq!(
+        reconsider(named.clone(), &fits, &[strong]),
+        undetermined(vec![[s, x]])
+    );
     let weak = pair([s, x], 3.5, [5.0, 40.0], Some(1));
     assert_eq!(reconsider(named.clone(), &fits, &[weak]), named);
     let tie = pair([b, c], 6.5, [30.0, 30.0], None);
-    assert_eq!(reconsider(named.clone(), &fits, &[tie]), undetermined(vec![[b, c]]));
+    assert_eq!(
+        reconsider(named.clone(), &fits, &[tie]),
+        undetermined(vec![[b, c]])
+    );
     let far = pair([b, c], 7.5, [30.0, 30.0], None);
     assert_eq!(reconsider(named.clone(), &fits, &[far]), named);
     let better = pair([b, c], 1.0, [30.0, 30.0], None);

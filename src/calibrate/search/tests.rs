@@ -205,5 +205,8 @@ fn with_both_ends_simulated_an_effect_is_pruned_only_on_its_runs() {
     // 0.05 of the run's 14.0625.
     let best = best_possible_chi2(&m, &weak, &current);
     assert!((best - 14.0625).abs() < 0.05, "{best}");
-    assert_eq!(pruned(&m, &[leader, weak], &current), vec![Effect::SurfaceEnergy]);
+    assert_eq!(
+        pruned(&m, &[leader, weak], &current),
+        vec![Effect::SurfaceEnergy]
+    );
 }
