@@ -342,8 +342,16 @@ pub(super) fn pairs_table(s: &mut String, round: &Round) {
     if round.pairs.is_empty() {
         return;
     }
-    let needed: Vec<&super::pairs::PairFit> =
-        round.pairs.iter().filter(|p| p.needs_both()).collect();
+    // A pinned fit at the free fit's factors is the same model: listed once.
+    let mut needed: Vec<&super::pairs::PairFit> = Vec::new();
+    for p in round.pairs.iter().filter(|p| p.needs_both()) {
+        if !needed
+            .iter()
+            .any(|q| q.effects == p.effects && q.factors == p.factors)
+        {
+            needed.push(p);
+        }
+    }
     if needed.is_empty() {
         let _ = writeln!(
             s,
