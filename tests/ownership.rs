@@ -411,7 +411,13 @@ fn racing_writers_of_one_run_cache_make_each_run_once() {
     let (rounds, writers) = (5, 4);
     for round in 0..rounds {
         let base = Config::parse(&config(round + 1), "race").unwrap();
-        let run = Run::Compression(compression_config(&base, Geometry::Omni, round + 1, 1e4));
+        let run = Run::Compression(compression_config(
+            &base,
+            Geometry::Omni,
+            None,
+            round + 1,
+            1e4,
+        ));
         let request = s.join(format!("request-{round}.key"));
         std::fs::write(&request, run.key()).unwrap();
         let args = strings(&[

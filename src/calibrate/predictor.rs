@@ -136,7 +136,11 @@ impl<'a> Predictor<'a> {
             let (_, p_max) = c.pressure_range();
             for &seed in seeds {
                 runs.push(Run::Compression(compression_config(
-                    &sample, c.geometry, seed, p_max,
+                    &sample,
+                    c.geometry,
+                    c.wall_speed,
+                    seed,
+                    p_max,
                 )));
             }
         }
@@ -385,6 +389,57 @@ mod tests {
         assert!(
             s[1].is_nan(),
             "a seed that missed the target leaves it unknown"
+        );
+    }
+
+    #[test]
+    fn each_curve_is_simulated_at_its_own_wall_speed_or_else_the_configs() {
+        use super::super::measured::{CompressionCurve, Geometry, Provenance};
+        use crate::config::ExperimentKind;
+        let curve = |name: &str, geometry, wall_speed| CompressionCurve {
+            name: name.into(),
+            geometry,
+            pressure: vec![1e3, 1e4],
+            phi: vec![0.2, 0.3],
+            phi_sigma: vec![0.01, 0.01],
+            wall_speed,
+        };
+        let measured = MeasuredSet {
+            source: Provenance {
+                citation: "test".into(),
+                what: String::new(),
+                notes: String::new(),
+            },
+            compression: vec![
+                curve("fast", Geometry::Omni, Some(7.5)),
+                curve("unstated", Geometry::Uni, None),
+            ],
+            sticking: Vec::new(),
+        };
+        let (cache, settings) = (RunCache::new(), Settings::default());
+        let predictor = Predictor::new(&measured, &cache, &settings, &|_| {});
+        let mut base = Config::default();
+        base.experiment.wall_speed_m_s = 0.25;
+        let runs = predictor.runs_for(&base, &[4, 5], false);
+        let speeds: Vec<(ExperimentKind, u64, f64)> = runs
+            .iter()
+            .map(|r| match r {
+                Run::Compression(c) => (
+                    c.experiment.kind,
+                    c.sample.seed,
+                    c.experiment.wall_speed_m_s,
+                ),
+                Run::Sticking(_) => panic!("no sticking data"),
+            })
+            .collect();
+        assert_eq!(
+            speeds,
+            vec![
+                (ExperimentKind::Omni, 4, 7.5),
+                (ExperimentKind::Omni, 5, 7.5),
+                (ExperimentKind::Uni, 4, 0.25),
+                (ExperimentKind::Uni, 5, 0.25),
+            ]
         );
     }
 

@@ -4,6 +4,7 @@
 
 use super::figures::plot_panels;
 use super::gap::{chi2_quantile_95, Gap};
+use super::measured::MeasuredSet;
 use super::report_tables::*;
 use super::workflow::{describe_decision, Calibration};
 use crate::output::atomic::write_atomic;
@@ -148,26 +149,14 @@ pub fn markdown(cal: &Calibration, measured: &str, config_path: &Path) -> String
     let _ = writeln!(s, "- base config: `{}`", config_path.display());
     let _ = writeln!(
         s,
-        "- simulations: {} RBD monomers per sample, seeds {:?}, wall at {} m/s, dt {} ns; {} runs",
+        "- simulations: {} RBD monomers per sample, seeds {:?}, wall at {}, dt {} ns; {} runs",
         c.sample.monomers,
         cal.settings.seeds,
-        c.experiment.wall_speed_m_s,
+        wall_speeds_text(m, c.experiment.wall_speed_m_s),
         c.integration.dt_ns,
         cal.runs
     );
     let _ = writeln!(s, "- search: {}", search_text(cal));
-    for curve in &m.compression {
-        if let Some(v) = curve.wall_speed {
-            if (v - c.experiment.wall_speed_m_s).abs() > 1e-9 * v {
-                let _ = writeln!(
-                    s,
-                    "- note: {} was measured at {v} m/s, simulated at {} m/s; compression \
-                     curves depend on the wall speed",
-                    curve.name, c.experiment.wall_speed_m_s
-                );
-            }
-        }
-    }
     if cal.settings.seeds.len() < 2 {
         s.push_str("- note: one seed gives no sample-to-sample scatter; noise is the measured uncertainty only\n");
     }
@@ -408,6 +397,21 @@ fn lower_end_text(chi2: f64) -> String {
     } else {
         format!("{chi2:.1}")
     }
+}
+
+/// The wall speed the compressions ran at: the config's, or, where some curve's measured speed
+/// differs from it, each curve's own (a dynamic curve is simulated at its measured speed).
+fn wall_speeds_text(m: &MeasuredSet, config_speed: f64) -> String {
+    let differs = |v: f64| (v - config_speed).abs() > 1e-9 * v;
+    if !m.compression.iter().any(|c| c.wall_speed.is_some_and(differs)) {
+        return format!("{config_speed} m/s");
+    }
+    let each: Vec<String> = m
+        .compression
+        .iter()
+        .map(|c| format!("{} m/s for {}", c.wall_speed.unwrap_or(config_speed), c.name))
+        .collect();
+    format!("each curve's measured speed ({})", each.join(", "))
 }
 
 fn search_text(cal: &Calibration) -> String {

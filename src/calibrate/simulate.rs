@@ -309,12 +309,22 @@ pub fn run_all(
         .collect()
 }
 
-/// The compression of one sample for a measured curve: geometry from the data, sample size,
-/// wall speed, time step and physics from `base`; it stops once the pressure passes ten times the
-/// highest measured one (φ_stop is raised out of the way).
-pub fn compression_config(base: &Config, geometry: Geometry, seed: u64, p_max: f64) -> Config {
+/// The compression of one sample for a measured curve: geometry and, where the data give it,
+/// wall speed from the data (a dynamic curve depends on its speed); sample size, time step,
+/// physics and otherwise the wall speed from `base`. It stops once the pressure passes ten
+/// times the highest measured one (φ_stop is raised out of the way).
+pub fn compression_config(
+    base: &Config,
+    geometry: Geometry,
+    wall_speed: Option<f64>,
+    seed: u64,
+    p_max: f64,
+) -> Config {
     let mut c = base.clone();
     let e = &mut c.experiment;
+    if let Some(v) = wall_speed {
+        e.wall_speed_m_s = v;
+    }
     e.kind = match geometry {
         Geometry::Omni => ExperimentKind::Omni,
         Geometry::Uni => ExperimentKind::Uni,

@@ -59,7 +59,9 @@ pub fn synthesize(
     let mut runs = Vec::new();
     for &g in &spec.geometries {
         for &seed in &spec.seeds {
-            runs.push(Run::Compression(compression_config(config, g, seed, p_hi)));
+            runs.push(Run::Compression(compression_config(
+                config, g, None, seed, p_hi,
+            )));
         }
     }
     if spec.sticking {

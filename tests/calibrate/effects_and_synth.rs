@@ -13,7 +13,7 @@ fn every_effect_changes_the_simulation() {
     small.experiment.wall_speed_m_s = 2.0;
     let runs_of = |c: &Config| {
         vec![
-            Run::Compression(compression_config(c, Geometry::Omni, 7, 1e4)),
+            Run::Compression(compression_config(c, Geometry::Omni, None, 7, 1e4)),
             Run::Sticking(sticking_config(c)),
         ]
     };

@@ -15,6 +15,7 @@ mod hidden_effects;
 mod measured_files_and_cli;
 #[path = "../common/pair_answer.rs"]
 mod pair_answer;
+mod paper_dynamic;
 mod sticking_damping;
 
 use common::Scratch;

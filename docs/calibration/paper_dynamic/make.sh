@@ -1,0 +1,15 @@
+#!/bin/bash
+# Rebuilds the calibrations of dustdem against the dynamic compression curves of Seizinger et
+# al. (2012) at 2.5, 5 and 10 m/s (measured.py writes the data from the paper's Eqs. 13, 15
+# and 17): 4000-monomer samples on seeds 1-3, a first screen on 2000. Add --cache-only to
+# rebuild the reports from the committed run cache without simulating (tests/paper_dynamic.rs
+# does so).
+set -euo pipefail
+cd "$(dirname "$0")/../../.."
+BIN=${DUSTDEM:-target/release/dustdem}
+DIR=docs/calibration/paper_dynamic
+for sigma in "" _scatter_only; do
+    $BIN calibrate --measured "$DIR/measured$sigma.toml" --config "$DIR/config.toml" \
+        --seeds 1,2,3 --screen-monomers 2000 --threads 2 --cache "$DIR/run_cache" \
+        --out "$DIR/n4000$sigma" "$@"
+done
