@@ -38,7 +38,7 @@ fn the_paper_curves_are_eq13_at_each_wall_speed_from_eqs_15_and_17() {
 fn the_paper_dynamic_calibrations_rebuild_from_their_run_cache() {
     let scratch = Scratch::new("paper-dynamic");
     for sigma in ["", "_scatter_only"] {
-        let out = scratch.join(&format!("n4000{sigma}"));
+        let out = scratch.join(format!("n4000{sigma}"));
         let result = Command::new(env!("CARGO_BIN_EXE_dustdem"))
             .current_dir(repo(""))
             .arg("calibrate")
