@@ -18,7 +18,6 @@ use dustdem::calibrate::attribution::Decision;
 use dustdem::calibrate::{calibrate, Calibration, Effect, MeasuredSet, RunCache, Settings};
 use dustdem::config::Config;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 fn repo(path: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
@@ -45,32 +44,25 @@ fn seeds(n: u64) -> String {
 fn the_committed_hidden_pair_calibrations_rebuild_from_their_run_cache() {
     let scratch = Scratch::new("hidden-pair");
     for (measured, dir, n) in CASES {
-        let out = scratch.join(dir);
-        let result = Command::new(env!("CARGO_BIN_EXE_dustdem"))
-            .current_dir(repo(""))
-            .args(["calibrate", "--measured", &format!("{DIR}/{measured}")])
-            .args([
+        let (measured, seeds) = (format!("{DIR}/{measured}"), seeds(n));
+        common::assert_calibration_rebuilds(
+            &[
+                "--measured",
+                &measured,
                 "--config",
                 CONFIG,
                 "--seeds",
-                &seeds(n),
+                &seeds,
                 "--screen-monomers",
                 "60",
-            ])
-            .args(["--revisit", "--threads", "2", "--cache-only", "--cache"])
-            .arg(repo(&format!("{DIR}/run_cache")))
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .unwrap();
-        assert!(
-            result.status.success(),
-            "{dir}: {}",
-            String::from_utf8_lossy(&result.stderr)
+                "--revisit",
+                "--threads",
+                "2",
+            ],
+            &repo(&format!("{DIR}/run_cache")),
+            &scratch.join(dir),
+            &repo(DIR).join(dir),
         );
-        let committed = repo(DIR).join(dir);
-        let compared = common::assert_rebuilt_as_committed(&out, &committed, dir);
-        assert!(compared >= 4, "{dir}: {compared} files");
     }
 }
 

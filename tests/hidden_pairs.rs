@@ -27,7 +27,6 @@ use dustdem::calibrate::attribution::Decision;
 use dustdem::calibrate::{calibrate, Calibration, Effect, MeasuredSet, RunCache, Settings};
 use dustdem::config::Config;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 fn repo(path: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
@@ -76,37 +75,24 @@ fn measured(dir: &str) -> String {
 fn the_hidden_pair_calibrations_rebuild_from_their_run_cache() {
     let scratch = Scratch::new("hidden-pairs");
     for (dir, _) in CASES {
-        let out = scratch.join(dir);
-        let result = Command::new(env!("CARGO_BIN_EXE_dustdem"))
-            .current_dir(repo(""))
-            .args([
-                "calibrate",
+        let measured = measured(dir);
+        common::assert_calibration_rebuilds(
+            &[
                 "--measured",
-                &measured(dir),
+                &measured,
                 "--config",
                 CONFIG,
-            ])
-            .args([
                 "--seeds",
                 "1,2,3",
                 "--screen-monomers",
                 "60",
                 "--threads",
                 "2",
-            ])
-            .args(["--cache-only", "--cache"])
-            .arg(repo(&format!("{DIR}/run_cache")))
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .unwrap();
-        assert!(
-            result.status.success(),
-            "{dir}: {}",
-            String::from_utf8_lossy(&result.stderr)
+            ],
+            &repo(&format!("{DIR}/run_cache")),
+            &scratch.join(dir),
+            &repo(DIR).join(dir),
         );
-        let compared = common::assert_rebuilt_as_committed(&out, &repo(DIR).join(dir), dir);
-        assert!(compared >= 4, "{dir}: {compared} files");
     }
 }
 

@@ -6,7 +6,6 @@
 
 use super::*;
 use dustdem::calibrate::attribution::Decision;
-use std::process::Command;
 
 const DIR: &str = "docs/calibration/paper_dynamic";
 
@@ -38,34 +37,28 @@ fn the_paper_curves_are_eq13_at_each_wall_speed_from_eqs_15_and_17() {
 fn the_paper_dynamic_calibrations_rebuild_from_their_run_cache() {
     let scratch = Scratch::new("paper-dynamic");
     for sigma in ["", "_scatter_only"] {
-        let out = scratch.join(format!("n4000{sigma}"));
-        let result = Command::new(env!("CARGO_BIN_EXE_dustdem"))
-            .current_dir(repo(""))
-            .arg("calibrate")
-            .args(["--measured", &format!("{DIR}/measured{sigma}.toml")])
-            .args(["--config", &format!("{DIR}/config.toml")])
-            .args([
+        let name = format!("n4000{sigma}");
+        let (measured, config) = (
+            format!("{DIR}/measured{sigma}.toml"),
+            format!("{DIR}/config.toml"),
+        );
+        common::assert_calibration_rebuilds(
+            &[
+                "--measured",
+                &measured,
+                "--config",
+                &config,
                 "--seeds",
                 "1,2,3",
                 "--screen-monomers",
                 "2000",
                 "--threads",
                 "2",
-            ])
-            .args(["--cache-only", "--cache"])
-            .arg(repo(&format!("{DIR}/run_cache")))
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .unwrap();
-        assert!(
-            result.status.success(),
-            "{sigma}: {}",
-            String::from_utf8_lossy(&result.stderr)
+            ],
+            &repo(&format!("{DIR}/run_cache")),
+            &scratch.join(&name),
+            &repo(DIR).join(&name),
         );
-        let name = format!("n4000{sigma}");
-        let compared = common::assert_rebuilt_as_committed(&out, &repo(DIR).join(&name), &name);
-        assert!(compared >= 4, "{name}: {compared} files");
     }
 }
 

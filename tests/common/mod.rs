@@ -174,6 +174,35 @@ pub fn moving_cluster(law: &ContactLaw, random_speed: f64, seed: u64) -> Monomer
     m
 }
 
+/// Runs `dustdem calibrate ARGS --cache-only --cache CACHE --out OUT` from the repository root
+/// (a committed calibration rebuilt from its run cache, never simulating) and asserts that it
+/// succeeds and writes at least the report, the figure, the corrected config and one curve,
+/// each byte for byte as in `committed`.
+pub fn assert_calibration_rebuilds(args: &[&str], cache: &Path, out: &Path, committed: &Path) {
+    let label = committed
+        .file_name()
+        .unwrap()
+        .to_string_lossy()
+        .into_owned();
+    let result = std::process::Command::new(env!("CARGO_BIN_EXE_dustdem"))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .arg("calibrate")
+        .args(args)
+        .args(["--cache-only", "--cache"])
+        .arg(cache)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap();
+    assert!(
+        result.status.success(),
+        "{label}: {}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    let compared = assert_rebuilt_as_committed(out, committed, &label);
+    assert!(compared >= 4, "{label}: {compared} files");
+}
+
 /// Asserts that every file `out` holds is byte for byte the one of the same name in
 /// `committed` (a rebuild of a committed result); returns how many it compared.
 pub fn assert_rebuilt_as_committed(out: &Path, committed: &Path, label: &str) -> usize {
