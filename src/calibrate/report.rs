@@ -403,13 +403,23 @@ fn lower_end_text(chi2: f64) -> String {
 /// differs from it, each curve's own (a dynamic curve is simulated at its measured speed).
 fn wall_speeds_text(m: &MeasuredSet, config_speed: f64) -> String {
     let differs = |v: f64| (v - config_speed).abs() > 1e-9 * v;
-    if !m.compression.iter().any(|c| c.wall_speed.is_some_and(differs)) {
+    if !m
+        .compression
+        .iter()
+        .any(|c| c.wall_speed.is_some_and(differs))
+    {
         return format!("{config_speed} m/s");
     }
     let each: Vec<String> = m
         .compression
         .iter()
-        .map(|c| format!("{} m/s for {}", c.wall_speed.unwrap_or(config_speed), c.name))
+        .map(|c| {
+            format!(
+                "{} m/s for {}",
+                c.wall_speed.unwrap_or(config_speed),
+                c.name
+            )
+        })
         .collect();
     format!("each curve's measured speed ({})", each.join(", "))
 }

@@ -55,10 +55,15 @@ def log_spaced(lo, hi, n):
     return [10 ** (a + (b - a) * k / (n - 1)) for k in range(n)]
 
 
+def data_lines(f):
+    """A curve file's lines without its comment lines."""
+    return (line for line in f if not line.startswith("#"))
+
+
 def envelope(path):
     rows = []
     with open(path) as f:
-        for r in csv.DictReader(f):
+        for r in csv.DictReader(data_lines(f)):
             p = float(r["p_top_pa"])
             if math.isfinite(p):
                 rows.append((float(r["phi"]), math.log10(p) if p > 0 else -10.0))
@@ -84,7 +89,7 @@ def phi_at(phi, env, p):
 def rows_of(path):
     out = []
     with open(path) as f:
-        for r in csv.DictReader(f):
+        for r in csv.DictReader(data_lines(f)):
             p = float(r["p_top_pa"])
             if math.isfinite(p):
                 out.append((float(r["phi"]), p))
