@@ -60,13 +60,18 @@ def data_lines(f):
     return (line for line in f if not line.startswith("#"))
 
 
-def envelope(path):
-    rows = []
+def rows_of(path):
+    out = []
     with open(path) as f:
         for r in csv.DictReader(data_lines(f)):
             p = float(r["p_top_pa"])
             if math.isfinite(p):
-                rows.append((float(r["phi"]), math.log10(p) if p > 0 else -10.0))
+                out.append((float(r["phi"]), p))
+    return out
+
+
+def envelope(path):
+    rows = [(phi, math.log10(p) if p > 0 else -10.0) for phi, p in rows_of(path)]
     half, running, env = MEDIAN_ROWS // 2, -math.inf, []
     for k in range(len(rows)):
         window = sorted(x for _, x in rows[max(0, k - half) : k + half + 1])
@@ -84,16 +89,6 @@ def phi_at(phi, env, p):
             t = (x - env[i - 1]) / (e - env[i - 1])
             return phi[i - 1] + t * (phi[i] - phi[i - 1])
     return math.nan
-
-
-def rows_of(path):
-    out = []
-    with open(path) as f:
-        for r in csv.DictReader(data_lines(f)):
-            p = float(r["p_top_pa"])
-            if math.isfinite(p):
-                out.append((float(r["phi"]), p))
-    return out
 
 
 def pressure_at_phi(rows, phi):
