@@ -24,6 +24,7 @@ pub mod outside;
 pub mod pairs;
 pub mod predictor;
 pub mod report;
+mod report_round;
 mod report_tables;
 mod revisit;
 mod round;

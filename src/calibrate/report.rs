@@ -5,8 +5,9 @@
 use super::figures::plot_panels;
 use super::gap::{chi2_quantile_95, Gap};
 use super::measured::MeasuredSet;
+use super::report_round::round_section;
 use super::report_tables::*;
-use super::workflow::{describe_decision, Calibration};
+use super::workflow::Calibration;
 use crate::output::atomic::write_atomic;
 use crate::output::plot::panels_png;
 use std::fmt::Write as _;
@@ -135,9 +136,26 @@ pub fn corrected_config(cal: &Calibration, measured: &str, config_path: &Path) -
 
 /// The Markdown report.
 pub fn markdown(cal: &Calibration, measured: &str, config_path: &Path) -> String {
+    let mut s = String::from("# Calibration report\n\n");
+    header_section(&mut s, cal, measured, config_path);
+    baseline_section(&mut s, cal);
+    for (k, round) in cal.rounds.iter().enumerate() {
+        round_section(&mut s, cal, k, round, k == 0 && nothing_named(cal));
+    }
+    revisits_section(&mut s, cal);
+    result_section(&mut s, cal);
+    let _ = writeln!(
+        s,
+        "\nCorrected config: `{CORRECTED_FILE}`.\n\n![measured, baseline and corrected]({PLOT_FILE})"
+    );
+    s
+}
+
+/// What was compared with what: the data and their source, the base config, the runs and the
+/// search.
+fn header_section(s: &mut String, cal: &Calibration, measured: &str, config_path: &Path) {
     let m = &cal.measured;
     let c = &cal.base;
-    let mut s = String::from("# Calibration report\n\n");
     let _ = writeln!(s, "- measured data: `{measured}`");
     let _ = writeln!(s, "  - source: {}", m.source.citation);
     if !m.source.what.is_empty() {
@@ -160,11 +178,16 @@ pub fn markdown(cal: &Calibration, measured: &str, config_path: &Path) -> String
     if cal.settings.seeds.len() < 2 {
         s.push_str("- note: one seed gives no sample-to-sample scatter; noise is the measured uncertainty only\n");
     }
+}
+
+/// The baseline's gap, where it lies, and with nothing named what the data could not see.
+fn baseline_section(s: &mut String, cal: &Calibration) {
+    let m = &cal.measured;
     s.push_str("\n## Baseline gap\n\n");
-    curve_table(&mut s, cal.baseline_gap(), cal);
+    curve_table(s, cal.baseline_gap(), cal);
     if !m.compression.is_empty() {
         s.push_str("Where (Δφ > 0: the simulated sample is denser at that pressure, i.e. the model is too soft):\n\n");
-        where_table(&mut s, cal.baseline_gap());
+        where_table(s, cal.baseline_gap());
     }
     if nothing_named(cal) {
         s.push_str(
@@ -173,122 +196,13 @@ pub fn markdown(cal: &Calibration, measured: &str, config_path: &Path) -> String
              data would have shown at 95%. A change inside those limits passes as noise.\n\n",
         );
         if let Some(first) = cal.rounds.first() {
-            detection_rows(&mut s, &first.detection);
+            detection_rows(s, &first.detection);
         }
     }
-    for (k, round) in cal.rounds.iter().enumerate() {
-        let _ = writeln!(s, "## Round {}\n", k + 1);
-        if !round.fits.is_empty() {
-            s.push_str(
-                "Each effect fitted alone (factor on the base value; interval: chi2 within +1; \
-                 explained: share of the baseline chi2 removed; confidence: relative weight \
-                 exp(−chi2/2) among the effects; ends: chi2 at the ends of the plausible \
-                 range, – where the search did not go below factor 1).\n\n\
-                 | effect | kind | factor | interval | value | chi2 | explained | confidence | chi2 at range ends | simulated factors |\n\
-                 |---|---|---|---|---|---|---|---|---|---|\n",
-            );
-            let current = round_base(cal, k);
-            for f in &round.fits {
-                let _ = writeln!(
-                    s,
-                    "| {} | {} | {}{} | {} – {} | {} | {:.2} | {:.1}% | {:.3} | {} / {:.1} | {} |",
-                    f.effect.name(),
-                    f.effect.kind().name(),
-                    match &f.bound {
-                        None => String::new(),
-                        Some(b) => (if b.upper { "≥ " } else { "≤ " }).to_string(),
-                    },
-                    fmt_factor(f.factor),
-                    fmt_factor(f.interval.0),
-                    fmt_factor(f.interval.1),
-                    f.effect.describe_value(&current, f.factor),
-                    f.chi2,
-                    100.0 * f.explained,
-                    f.confidence,
-                    lower_end_text(f.chi2_at_range_ends.0),
-                    f.chi2_at_range_ends.1,
-                    f.grid_factors
-                        .iter()
-                        .map(|&x| fmt_factor(x))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                );
-            }
-            s.push('\n');
-        }
-        pairs_table(&mut s, round);
-        if !round.pruned.is_empty() {
-            let _ = writeln!(
-                s,
-                "Not widened or refined after the screen ({}): {}.\n",
-                if cal.settings.both_ends {
-                    "their fit through the runs on both sides of factor 1 stayed beyond Δχ² = 2 \
-                     of the best effect, with χ² not falling at an end that could be widened"
-                } else {
-                    "no scaling of a screened response, up to ×64 either way, came within \
-                     Δχ² = 2 of the best effect"
-                },
-                round
-                    .pruned
-                    .iter()
-                    .map(|e| e.name())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            );
-        }
-        if let Some(single) = &round.single {
-            single_observable_text(&mut s, single);
-        }
-        if let Some(outside) = &round.outside {
-            let _ = writeln!(
-                s,
-                "**The cause may lie outside the library:** {}. Candidates the model itself \
-                 suggests: {}. Confidences count each as one equally good explanation.\n",
-                outside.signs.join("; "),
-                outside.candidates.join("; ")
-            );
-        }
-        held_out_table(&mut s, round);
-        let _ = writeln!(s, "**Decision:** {}.\n", describe_decision(&round.decision));
-        discrimination_text(&mut s, round);
-        if let Some(effect) = round.decision.chosen() {
-            if let Some(f) = round.fits.iter().find(|f| f.effect == effect) {
-                chosen_text(&mut s, f, &round.fits, &round_base(cal, k));
-            }
-        }
-        detection_table(&mut s, round, k == 0 && nothing_named(cal));
-        if let (Some((effect, factor)), Some(after)) = (round.applied, &round.gap_after) {
-            let partner = round.applied_partner.map_or(String::new(), |(e, f)| {
-                format!(
-                    " and {} x{} ({})",
-                    e.name(),
-                    fmt_factor(f),
-                    e.describe_value(&round_base(cal, k), f)
-                )
-            });
-            let _ = writeln!(
-                s,
-                "Re-simulated with {} x{} ({}){partner}: chi2 {:.2} → {:.2}; normalised gap \
-                 shrank by {:.0}%{}.\n",
-                effect.name(),
-                fmt_factor(factor),
-                effect.describe_value(&round_base(cal, k), factor),
-                round.gap_before.chi2,
-                after.chi2,
-                100.0 * gap_shrink(&round.gap_before, after),
-                if round.rejected {
-                    " — not kept, it did not lower the gap"
-                } else {
-                    ""
-                }
-            );
-            curve_table(&mut s, after, cal);
-        }
-        if round.decision.is_undetermined() {
-            s.push_str("The corrected config uses the nominally best of the tied explanations; treat it as one of several equally good ones.\n\n");
-        }
-    }
-    revisits_section(&mut s, cal);
+}
+
+/// The applied effects and the gap they leave.
+fn result_section(s: &mut String, cal: &Calibration) {
     s.push_str("## Result\n\n");
     let named = cal.named();
     if cal.applied.is_empty() {
@@ -332,11 +246,6 @@ pub fn markdown(cal: &Calibration, measured: &str, config_path: &Path) -> String
             );
         }
     }
-    let _ = writeln!(
-        s,
-        "\nCorrected config: `{CORRECTED_FILE}`.\n\n![measured, baseline and corrected]({PLOT_FILE})"
-    );
-    s
 }
 
 /// No effect was applied: the data were within noise or nothing explained them.
@@ -389,16 +298,6 @@ pub fn write_plan(
     Ok(path)
 }
 
-/// How the calibration searched and what its runs cost.
-/// χ² at the lower range end, or "–" where the search never went below factor 1.
-fn lower_end_text(chi2: f64) -> String {
-    if chi2.is_nan() {
-        "–".into()
-    } else {
-        format!("{chi2:.1}")
-    }
-}
-
 /// The wall speed the compressions ran at: the config's, or, where some curve's measured speed
 /// differs from it, each curve's own (a dynamic curve is simulated at its measured speed).
 fn wall_speeds_text(m: &MeasuredSet, config_speed: f64) -> String {
@@ -424,6 +323,7 @@ fn wall_speeds_text(m: &MeasuredSet, config_speed: f64) -> String {
     format!("each curve's measured speed ({})", each.join(", "))
 }
 
+/// How the calibration searched and what its runs cost.
 fn search_text(cal: &Calibration) -> String {
     let n = cal.settings.seeds.len();
     let k = match cal.settings.screen_seeds {

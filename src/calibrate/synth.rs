@@ -83,50 +83,9 @@ pub fn synthesize(
             };
             per_seed.push(pressure.iter().map(|&p| e.phi_at(p)).collect::<Vec<_>>());
         }
-        let Prediction::Compression { phi, scatter, .. } = Prediction::from_seeds(&per_seed) else {
-            unreachable!("compression prediction")
-        };
-        // Clip to the pressures every sample reached, with a warning, rather than fail: the
-        // data then cover what the simulation could show.
-        let reached = phi.iter().position(|v| !v.is_finite()).unwrap_or(phi.len());
-        if reached < 2 {
-            return Err(format!(
-                "the {} simulation did not reach {:.3e} Pa (two points are needed); lower the \
-                 pressure range",
-                g.name(),
-                pressure[reached.min(1)]
-            ));
-        }
-        if reached < phi.len() {
-            progress(&format!(
-                "warning: synth: the {} simulation did not reach {:.3e} Pa in every sample; the \
-                 curve is clipped to its first {reached} of {} points (up to {:.3e} Pa)",
-                g.name(),
-                pressure[reached],
-                phi.len(),
-                pressure[reached - 1]
-            ));
-        }
-        let (phi, scatter) = (&phi[..reached], &scatter[..reached]);
-        let n = spec.seeds.len() as f64;
-        compression.push(CompressionCurve {
-            name: format!("{} (synthetic)", g.name()),
-            geometry: g,
-            pressure: pressure[..reached].to_vec(),
-            phi: phi
-                .iter()
-                .map(|&v| v + spec.phi_noise * rng.normal())
-                .collect(),
-            phi_sigma: scatter
-                .iter()
-                .map(|&s| {
-                    (s * s / n + spec.phi_noise * spec.phi_noise)
-                        .sqrt()
-                        .max(1e-4)
-                })
-                .collect(),
-            wall_speed: Some(config.experiment.wall_speed_m_s),
-        });
+        compression.push(synthetic_curve(
+            config, spec, g, &pressure, &per_seed, &mut rng, progress,
+        )?);
     }
     let mut sticking = Vec::new();
     if spec.sticking {
@@ -140,24 +99,87 @@ pub fn synthesize(
         });
     }
     Ok(MeasuredSet {
-        source: Provenance {
-            citation: "synthetic (dustdem synth)".into(),
-            what: format!(
-                "mean of {} RBD samples of {} monomers per curve, wall at {} m/s, with Gaussian \
-                 noise of {} in phi and {}% in the sticking velocity",
-                spec.seeds.len(),
-                config.sample.monomers,
-                config.experiment.wall_speed_m_s,
-                spec.phi_noise,
-                100.0 * spec.sticking_noise
-            ),
-            notes: format!(
-                "pressures {p_lo:e} to {p_hi:e} Pa; the model that made these data is not recorded"
-            ),
-        },
+        source: provenance(config, spec),
         compression,
         sticking,
     })
+}
+
+/// The data curve of geometry `g`: the mean of the samples' φ at `pressure` (clipped to the
+/// pressures every sample reached) with noise added, σ from the samples' scatter and the noise.
+fn synthetic_curve(
+    config: &Config,
+    spec: &SynthSpec,
+    g: Geometry,
+    pressure: &[f64],
+    per_seed: &[Vec<f64>],
+    rng: &mut Rng,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<CompressionCurve, String> {
+    let Prediction::Compression { phi, scatter, .. } = Prediction::from_seeds(per_seed) else {
+        unreachable!("compression prediction")
+    };
+    // Clip to the pressures every sample reached, with a warning, rather than fail: the
+    // data then cover what the simulation could show.
+    let reached = phi.iter().position(|v| !v.is_finite()).unwrap_or(phi.len());
+    if reached < 2 {
+        return Err(format!(
+            "the {} simulation did not reach {:.3e} Pa (two points are needed); lower the \
+             pressure range",
+            g.name(),
+            pressure[reached.min(1)]
+        ));
+    }
+    if reached < phi.len() {
+        progress(&format!(
+            "warning: synth: the {} simulation did not reach {:.3e} Pa in every sample; the \
+             curve is clipped to its first {reached} of {} points (up to {:.3e} Pa)",
+            g.name(),
+            pressure[reached],
+            phi.len(),
+            pressure[reached - 1]
+        ));
+    }
+    let (phi, scatter) = (&phi[..reached], &scatter[..reached]);
+    let n = spec.seeds.len() as f64;
+    Ok(CompressionCurve {
+        name: format!("{} (synthetic)", g.name()),
+        geometry: g,
+        pressure: pressure[..reached].to_vec(),
+        phi: phi
+            .iter()
+            .map(|&v| v + spec.phi_noise * rng.normal())
+            .collect(),
+        phi_sigma: scatter
+            .iter()
+            .map(|&s| {
+                (s * s / n + spec.phi_noise * spec.phi_noise)
+                    .sqrt()
+                    .max(1e-4)
+            })
+            .collect(),
+        wall_speed: Some(config.experiment.wall_speed_m_s),
+    })
+}
+
+/// What the data file says about itself: how it was made, not the model that made it.
+fn provenance(config: &Config, spec: &SynthSpec) -> Provenance {
+    let (p_lo, p_hi) = spec.pressure_range;
+    Provenance {
+        citation: "synthetic (dustdem synth)".into(),
+        what: format!(
+            "mean of {} RBD samples of {} monomers per curve, wall at {} m/s, with Gaussian \
+         noise of {} in phi and {}% in the sticking velocity",
+            spec.seeds.len(),
+            config.sample.monomers,
+            config.experiment.wall_speed_m_s,
+            spec.phi_noise,
+            100.0 * spec.sticking_noise
+        ),
+        notes: format!(
+            "pressures {p_lo:e} to {p_hi:e} Pa; the model that made these data is not recorded"
+        ),
+    }
 }
 
 /// `dustdem synth`: `config` with `effects` applied, simulated as `spec` says, written to

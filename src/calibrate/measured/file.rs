@@ -244,6 +244,27 @@ fn validate_curve(c: &Check, i: usize, f: FileCurve) -> Result<CompressionCurve,
             ));
         }
     };
+    check_points(c, &at, &pressure, &phi)?;
+    let phi_sigma = check_sigma(c, &at, f.phi_sigma, pressure.len())?;
+    Ok(CompressionCurve {
+        name: f
+            .name
+            .unwrap_or_else(|| format!("{} {}", geometry.name(), i + 1)),
+        geometry,
+        pressure,
+        phi,
+        phi_sigma,
+        wall_speed,
+    })
+}
+
+/// At least two points, as many φ as pressures, pressures positive and increasing, φ in (0, 1).
+fn check_points(
+    c: &Check,
+    at: &dyn Fn(&str) -> String,
+    pressure: &[f64],
+    phi: &[f64],
+) -> Result<(), ConfigError> {
     if pressure.len() < 2 {
         return Err(c.err(
             &at("pressure_pa"),
@@ -281,19 +302,29 @@ fn validate_curve(c: &Check, i: usize, f: FileCurve) -> Result<CompressionCurve,
             "a filling factor between 0 and 1 (exclusive)",
         )?;
     }
+    Ok(())
+}
+
+/// One σ for all points or one per point, each finite in (0, 1).
+fn check_sigma(
+    c: &Check,
+    at: &dyn Fn(&str) -> String,
+    sigma: Option<Sigma>,
+    points: usize,
+) -> Result<Vec<f64>, ConfigError> {
     let sigma_allowed = "a finite 1-sigma uncertainty of phi > 0 and < 1";
     let phi_sigma = match c.need(
-        f.phi_sigma,
+        sigma,
         &at("phi_sigma"),
         "one 1-sigma uncertainty of phi, or one per point",
     )? {
-        Sigma::One(s) => vec![s; pressure.len()],
-        Sigma::Each(v) if v.len() == pressure.len() => v,
+        Sigma::One(s) => vec![s; points],
+        Sigma::Each(v) if v.len() == points => v,
         Sigma::Each(v) => {
             return Err(c.err(
                 &at("phi_sigma"),
                 format!("{} values", v.len()),
-                format!("one value, or as many as pressure_pa ({})", pressure.len()),
+                format!("one value, or as many as pressure_pa ({})", points),
             ))
         }
     };
@@ -305,16 +336,7 @@ fn validate_curve(c: &Check, i: usize, f: FileCurve) -> Result<CompressionCurve,
             sigma_allowed,
         )?;
     }
-    Ok(CompressionCurve {
-        name: f
-            .name
-            .unwrap_or_else(|| format!("{} {}", geometry.name(), i + 1)),
-        geometry,
-        pressure,
-        phi,
-        phi_sigma,
-        wall_speed,
-    })
+    Ok(phi_sigma)
 }
 
 fn sample_eq13(
