@@ -69,22 +69,7 @@ pub(super) fn search_round(
     ));
     let (mut grids, detection, size_screened, small_dropped) =
         screen_round(predictor, now, applied, &before, round)?;
-    let mut r = Round {
-        gap_before: before.clone(),
-        detection,
-        size_screened: None,
-        single: None,
-        outside: None,
-        pruned: Vec::new(),
-        fits: Vec::new(),
-        pairs: Vec::new(),
-        decision: Decision::WithinNoise,
-        applied: None,
-        applied_partner: None,
-        discrimination: None,
-        gap_after: None,
-        rejected: false,
-    };
+    let mut r = new_round(&before, detection);
     if before.within_noise() {
         progress(&format!(
             "round {round}: the gap is within sample-to-sample and measurement noise"
@@ -95,10 +80,9 @@ pub(super) fn search_round(
         return Ok((r, None));
     }
     r.size_screened = size_screened;
-    r.pruned = if settings.prune {
-        pruned(measured, &grids, now.predictions)
-    } else {
-        Vec::new()
+    r.pruned = match settings.prune {
+        true => pruned(measured, &grids, now.predictions),
+        false => Vec::new(),
     };
     if !r.pruned.is_empty() {
         progress(&format!(
@@ -143,6 +127,26 @@ pub(super) fn search_round(
         true => (r, None),
         false => (r, Some(after_predictions)),
     })
+}
+
+/// A round that has only screened: its gap and detection limits, nothing fitted or decided.
+fn new_round(before: &Gap, detection: Vec<DetectionLimit>) -> Round {
+    Round {
+        gap_before: before.clone(),
+        detection,
+        size_screened: None,
+        single: None,
+        outside: None,
+        pruned: Vec::new(),
+        fits: Vec::new(),
+        pairs: Vec::new(),
+        decision: Decision::WithinNoise,
+        applied: None,
+        applied_partner: None,
+        discrimination: None,
+        gap_after: None,
+        rejected: false,
+    }
 }
 
 /// The decision from single effects revisited with the pairs, when the settings fit them.
