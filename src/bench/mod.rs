@@ -16,6 +16,7 @@ pub mod measure;
 pub mod memory;
 pub mod options;
 pub mod prepare;
+mod size;
 pub mod stats;
 pub mod table;
 pub mod whole_run;
@@ -24,13 +25,13 @@ pub use options::{Options, SampleState, Threads};
 
 use crate::backend::cpu::CpuEngine;
 use crate::backend::gpu::context::GpuContext;
-use crate::backend::gpu::engine::GpuEngine;
 use crate::backend::gpu::shader::Precision;
 use crate::config::Config;
 use crate::experiment::setup::{build_sample, build_walls, stored_monomers};
 use crate::output::atomic::write_atomic;
 use lammps::Lammps;
-use measure::{add_passes, probe, sides, steps_for, Side, SideKind};
+use measure::{sides, Side, SideKind};
+use size::measure_size;
 use std::path::PathBuf;
 
 /// The benchmark's compression of `n` monomers: the project's defaults (Seizinger et al.'s
@@ -239,244 +240,6 @@ pub fn write_tables(report: &Report) -> Result<Vec<PathBuf>, String> {
         written.push(path);
     }
     Ok(written)
-}
-
-fn measure_size(
-    n: usize,
-    sample: SampleState,
-    options: &Options,
-    sides: &[Side],
-    setup: &Setup,
-    report: &mut Report,
-    progress: &dyn Fn(&str),
-) -> Result<SizeResult, String> {
-    let peak_rss_per_size = memory::reset_peak();
-    let config = benchmark_config(n)?;
-    let lammps_dir = options.out.join("lammps").join(match sample {
-        SampleState::Fresh => format!("n{n}"),
-        SampleState::Compressed { .. } => format!("n{n}_{}", sample.key()),
-    });
-    let mut engine = prepare::starting_engine(
-        &config,
-        sample,
-        options,
-        &setup.warm_pool,
-        &lammps_dir,
-        &mut report.notes,
-        progress,
-    )?;
-
-    // Warm-up past the first contact changes (the top wall meeting the sample, the first
-    // contacts breaking), on all threads: a tenth of a measurement, at least 20 steps.
-    let at_least = (options.seconds / 10.0).clamp(0.02, 2.0);
-    let (probed, per_step) = probe(
-        |k| measure::time_cpu(&setup.warm_pool, &mut engine, k),
-        at_least,
-        2000,
-    )?;
-    let warm_total = steps_for(0.1 * options.seconds, per_step).clamp(20, 2000);
-    let rest = warm_total.saturating_sub(probed);
-    measure::time_cpu(&setup.warm_pool, &mut engine, rest)?;
-    let warmup_steps = probed + rest;
-    let start = engine;
-    // The same run with the monomers in the sample's order, warmed up by the same steps.
-    let sample_order_start = if options.sample_order && sample == SampleState::Fresh {
-        let mut config = config.clone();
-        config.integration.space_filling_order = false;
-        let (mut engine, _, _) = benchmark_engine(&config)?;
-        measure::time_cpu(&setup.warm_pool, &mut engine, warmup_steps)?;
-        Some(engine)
-    } else {
-        None
-    };
-    let mut untallied_start = start.clone();
-    crate::engine::Engine::stop_tallying_corrections(&mut untallied_start);
-    let start_of = |kind: &SideKind| match kind {
-        SideKind::CpuSampleOrder(_) => sample_order_start.as_ref().expect("checked below"),
-        SideKind::CpuUntallied(_) => &untallied_start,
-        _ => &start,
-    };
-    let contacts_per_monomer = 2.0 * start.contacts.pair_contact_count() as f64 / n as f64;
-    let phi = prepare::gap_filling_factor(&start);
-    // Each side's probe and measurement stop before the top wall has travelled a quarter of
-    // the gap: a small sample would otherwise be crushed within a long measurement.
-    let room = prepare::steps_to_travel(&start, 0.25);
-    progress(&format!(
-        "N = {n}, {}: warmed up {warmup_steps} steps, φ {phi:.3}, {contacts_per_monomer:.2} \
-         contacts per monomer",
-        sample.label()
-    ));
-
-    // Steps per side, from each side's own probe.
-    let mut results: Vec<SideResult> = vec![SideResult::default(); sides.len()];
-    let mut gpu_engine: Option<GpuEngine> = None;
-    for (i, side) in sides.iter().enumerate() {
-        let r = &mut results[i];
-        if matches!(side.kind, SideKind::CpuSampleOrder(_)) && sample_order_start.is_none() {
-            r.skipped = Some("measured on the fresh sample only".into());
-            continue;
-        }
-        let probed = match side.kind {
-            SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) | SideKind::CpuUntallied(_) => {
-                let pool = setup.pools[i].as_ref().expect("a pool per cpu side");
-                let mut e = start_of(&side.kind).clone();
-                probe(|k| measure::time_cpu(pool, &mut e, k), at_least, room)
-            }
-            SideKind::Gpu(precision) => match setup.gpu_ready(precision) {
-                Err(why) => Err(why.clone()),
-                Ok(()) => measure::gpu_engine(&start.state, precision).and_then(|mut e| {
-                    r.memory_mib = Some(e.device_bytes() as f64 / f64::from(1u32 << 20));
-                    probe(|k| measure::time_gpu(&mut e, k), at_least, room)
-                }),
-            },
-            SideKind::Lammps { ranks } => match &setup.lammps {
-                Err(why) => Err(why.clone()),
-                Ok(lmp) => {
-                    let steps = steps_for(at_least, per_step).min(1_000_000);
-                    lmp.run(
-                        &lammps_dir,
-                        ranks,
-                        warmup_steps,
-                        steps,
-                        &format!("probe.r{ranks}"),
-                    )
-                    .map(|run| {
-                        report.lammps_version = Some(run.version.clone());
-                        (steps, run.loop_seconds / steps as f64)
-                    })
-                }
-            },
-        };
-        match probed {
-            Ok((_, per_step)) => r.steps = steps_for(options.seconds, per_step).min(room),
-            Err(why) => {
-                let note = format!("N = {n}: {} not measured: {why}", side.label);
-                progress(&note);
-                r.skipped = Some(why);
-                if !matches!(side.kind, SideKind::Gpu(p) if setup.gpu_ready(p).is_err())
-                    && !matches!(side.kind, SideKind::Lammps { .. } if setup.lammps.is_err())
-                {
-                    report.notes.push(note);
-                }
-            }
-        }
-    }
-
-    let mut lammps_contacts = None;
-    for round in 1..=options.rounds {
-        for (i, side) in sides.iter().enumerate() {
-            let r = &mut results[i];
-            if r.skipped.is_some() {
-                continue;
-            }
-            let steps = r.steps;
-            let timed = match side.kind {
-                SideKind::Cpu(_) | SideKind::CpuSampleOrder(_) | SideKind::CpuUntallied(_) => {
-                    let pool = setup.pools[i].as_ref().expect("a pool per cpu side");
-                    let mut e = start_of(&side.kind).clone();
-                    e.pass_seconds = [0.0; 5];
-                    let timed = measure::time_cpu(pool, &mut e, steps);
-                    if timed.is_ok() {
-                        add_passes(&mut r.passes, &e.pass_seconds, steps);
-                    }
-                    timed
-                }
-                SideKind::Gpu(precision) => {
-                    measure::gpu_engine(&start.state, precision).and_then(|mut e| {
-                        let s = measure::time_gpu(&mut e, steps)?;
-                        // Pass times are those of the exact precision's engine.
-                        if precision == Precision::Exact {
-                            gpu_engine = Some(e);
-                        }
-                        Ok(s)
-                    })
-                }
-                SideKind::Lammps { ranks } => {
-                    let lmp = setup.lammps.as_ref().expect("checked by the probe");
-                    let tag = format!("round{round}.r{ranks}");
-                    lmp.run(&lammps_dir, ranks, warmup_steps, steps, &tag)
-                        .map(|run| {
-                            let times: Vec<f64> = measure::LAMMPS_SECTIONS
-                                .iter()
-                                .map(|name| {
-                                    run.sections
-                                        .iter()
-                                        .find(|(s, _)| s == name)
-                                        .map_or(0.0, |(_, t)| *t)
-                                })
-                                .collect();
-                            add_passes(&mut r.passes, &times, steps);
-                            r.memory_mib = run.memory_mib;
-                            if ranks == 1 {
-                                lammps_contacts = run.contacts_per_monomer;
-                            }
-                            run.loop_seconds
-                        })
-                }
-            };
-            match timed {
-                Ok(seconds) => {
-                    let rate = n as f64 * steps as f64 / seconds;
-                    progress(&format!(
-                        "N = {n}, round {round}: {} {rate:.3e} particle-steps/s ({steps} steps, \
-                         {seconds:.2} s)",
-                        side.label
-                    ));
-                    r.rates.push(rate);
-                }
-                Err(why) => {
-                    let note = format!("N = {n}, round {round}: {} stopped: {why}", side.label);
-                    progress(&note);
-                    report.notes.push(note);
-                    r.skipped = Some(why);
-                }
-            }
-        }
-    }
-    // The sums of the per-step pass times become means over the rounds that ran.
-    for r in &mut results {
-        let rounds = r.rates.len().max(1) as f64;
-        r.passes.iter_mut().for_each(|p| *p /= rounds);
-    }
-    if let (Some(i), Some(e)) = (
-        sides
-            .iter()
-            .position(|s| s.kind == SideKind::Gpu(Precision::Exact)),
-        gpu_engine.as_mut(),
-    ) {
-        // Timestamps around every dispatch of 20 ordinary steps, where the device has them.
-        match e.profile_passes(20) {
-            Ok(Some(times)) => results[i].passes = times.iter().map(|(_, s)| *s).collect(),
-            Ok(None) => report
-                .notes
-                .push("gpu: the adapter has no timestamps inside passes; no times per pass".into()),
-            Err(why) => report.notes.push(format!("N = {n}: gpu pass times: {why}")),
-        }
-    }
-    drop(gpu_engine);
-    let whole_run = whole_run::for_size(
-        n,
-        sample == SampleState::Fresh,
-        options,
-        sides,
-        &results,
-        &setup.lammps,
-        warmup_steps,
-        &lammps_dir,
-        progress,
-    );
-    Ok(SizeResult {
-        n,
-        sample,
-        phi,
-        warmup_steps,
-        contacts_per_monomer,
-        sides: results,
-        peak_rss_bytes: memory::peak_rss_bytes(),
-        peak_rss_per_size,
-        lammps_contacts_per_monomer: lammps_contacts,
-        whole_run,
-    })
 }
 
 /// "AMD EPYC …, 2 logical CPUs" from /proc/cpuinfo where there is one, and which instructions
