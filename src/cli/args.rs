@@ -2,7 +2,7 @@
 
 use crate::calibrate::measured::Geometry;
 use crate::job::{Backend, PrecisionChoice};
-use clap::{Parser, Subcommand};
+use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;
 
 #[derive(Parser)]
@@ -82,78 +82,7 @@ pub(super) enum Command {
     ConfigReference,
     /// Compare a config with measured data and name the effect that explains the gap; writes
     /// report.md, calibration.png and corrected.toml.
-    Calibrate {
-        /// Measured-data file (see configs/measured/); repeat it to fit the curves of several
-        /// files jointly.
-        #[arg(long, required = true)]
-        measured: Vec<PathBuf>,
-        /// Base config: material, model, sample size, wall speed, time step.
-        #[arg(long)]
-        config: PathBuf,
-        #[arg(long, default_value = "runs/calibration")]
-        out: PathBuf,
-        /// RBD sample seeds; each compression curve is simulated once per seed for the
-        /// baseline and for every correction kept.
-        #[arg(long, value_delimiter = ',', default_value = "1,2,3")]
-        seeds: Vec<u64>,
-        /// Seeds of the screen and the 1-D fits: the first N of --seeds, compared with the
-        /// current model on the same samples (common random numbers); 0: every seed.
-        #[arg(long, default_value_t = 1)]
-        screen_seeds: usize,
-        /// Sample size of the screen and the 1-D fits (multi-fidelity in size), smaller than
-        /// the config's; the baseline, the polished fits, the gaps and the detection limits of
-        /// a gap within noise stay at the config's size. 0: the config's size.
-        #[arg(long, default_value_t = 0)]
-        screen_monomers: usize,
-        /// Widen and refine every effect, also those that cannot come within Δχ² = 2 of the
-        /// best after the screen.
-        #[arg(long)]
-        no_prune: bool,
-        /// Screen every effect at the upper end of its range only (the search before both ends
-        /// were screened: an effect is then pruned on its scaled response, which is no bound).
-        #[arg(long)]
-        screen_upper_end_only: bool,
-        /// Single effects only: no joint fits of pairs and no proposed discriminating
-        /// measurement (the search before pairs, which the committed real-data calibrations
-        /// were made with).
-        #[arg(long)]
-        single_effects_only: bool,
-        /// Effects added one after the other at most.
-        #[arg(long, default_value_t = 2)]
-        rounds: usize,
-        /// After the rounds, search again for each applied effect but the last with all the
-        /// others in, and let a better fit replace it (then the last one too).
-        #[arg(long)]
-        revisit: bool,
-        /// Simulation threads (default: all cores).
-        #[arg(long)]
-        threads: Option<usize>,
-        /// Only estimate what the (planned) data and the config's system size can resolve:
-        /// the baseline and a screen of every effect, no fit; writes plan.md.
-        #[arg(long)]
-        plan: bool,
-        /// Where finished runs are kept, so a repeated or interrupted calibration does not
-        /// repeat them (default: OUT/run_cache).
-        #[arg(long)]
-        cache: Option<PathBuf>,
-        /// Only read the run cache: a run it does not hold is an error, never simulated
-        /// (rebuilds a report from a committed cache).
-        #[arg(long, conflicts_with = "slurm")]
-        cache_only: bool,
-        /// Make each batch of runs a step needs as a Slurm job array over the run cache (one
-        /// run per task; `sbatch --wait`), then go on; the result is the local calibration's.
-        #[arg(long)]
-        slurm: bool,
-        /// Time limit of each array task (Slurm's format).
-        #[arg(long, default_value = "01:00:00", requires = "slurm")]
-        slurm_time: String,
-        /// Memory per array task [MB].
-        #[arg(long, default_value_t = 2000, requires = "slurm")]
-        slurm_mem_mb: u64,
-        /// At most this many array tasks at once (0: no limit).
-        #[arg(long, default_value_t = 0, requires = "slurm")]
-        slurm_max_running: u64,
-    },
+    Calibrate(CalibrateArgs),
     /// One run of a `calibrate --slurm` job array (used by its script): makes the run a
     /// request file names and stores it in the run cache.
     #[command(hide = true)]
@@ -165,90 +94,13 @@ pub(super) enum Command {
     },
     /// Measure particle-steps per second of the engines (and of LAMMPS with --lammps) on RBD
     /// samples under 1 m/s omnidirectional compression; writes bench.md and bench.csv.
-    Bench {
-        /// Sample sizes N, comma-separated (10 to 10000000).
-        #[arg(long, default_value = "1000,10000,100000,1000000")]
-        sizes: String,
-        /// Target wall-clock seconds of one measurement (0.05 to 3600); the steps follow from
-        /// a short timed probe of each engine.
-        #[arg(long, default_value_t = 20.0)]
-        seconds: f64,
-        /// Rounds; each runs every engine once in turn from the same starting state (1 to 100).
-        #[arg(long, default_value_t = 3)]
-        rounds: usize,
-        /// CPU engine thread counts, comma-separated: numbers or `all`.
-        #[arg(long, default_value = "1,all")]
-        threads: String,
-        /// Engines: cpu, gpu (exact precision; skipped with a note where no adapter has f64)
-        /// and gpu-mixed (the mixed precision, on any adapter), comma-separated.
-        #[arg(long, default_value = "cpu,gpu")]
-        backends: String,
-        /// Also export the sample and an input deck for LAMMPS and, where `lmp` is on PATH,
-        /// run it on 1 and 2 MPI ranks.
-        #[arg(long)]
-        lammps: bool,
-        /// Also time the CPU engine on all threads with the monomers stored in the sample's
-        /// order instead of the space-filling order, to show what that order gains.
-        #[arg(long)]
-        sample_order: bool,
-        /// Also time the CPU engine on all threads without booking the inelastic corrections'
-        /// dissipation (`[output] tally_corrections = false`), with its ratio to LAMMPS.
-        #[arg(long)]
-        untallied: bool,
-        /// Starting states, comma-separated: `fresh` (the RBD sample) and filling factors
-        /// (0.16 to 0.6) the engine first compresses the sample to, e.g. `fresh,0.3,0.45`;
-        /// compressed states are stored under <out>/states and reused.
-        #[arg(long, default_value = "fresh")]
-        samples: String,
-        /// Top wall speed [m/s] that compresses the compressed states (0.01 to 25); their
-        /// measurement goes on at this speed (the fresh sample's at 1 m/s).
-        #[arg(long, default_value_t = 1.0)]
-        prepare_speed: f64,
-        #[arg(long, default_value = "bench")]
-        out: PathBuf,
-    },
+    Bench(BenchArgs),
     /// Run a parameter sweep: every combination of the sweep file's wall speeds, seeds, model
     /// variants and sample sizes, each case an ordinary run directory; finished cases are
     /// skipped, interrupted ones resumed from their checkpoint. `sweep collect DIR` merges the
     /// cases' results into DIR/sweep.csv.
     #[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
-    Sweep {
-        #[command(subcommand)]
-        action: Option<SweepAction>,
-        /// The sweep file (see configs/sweep_example.toml).
-        #[arg(required = true)]
-        sweep: Option<PathBuf>,
-        /// Output directory (overrides the sweep file's `out`; default runs/<sweep file name>).
-        #[arg(long)]
-        out: Option<PathBuf>,
-        /// Cases run at once (1 to 1024).
-        #[arg(long)]
-        jobs: Option<usize>,
-        /// Threads of each case's CPU engine (1 to 1024; default: the cores divided among the
-        /// jobs; with --slurm: 1). Any count gives the same bits.
-        #[arg(long)]
-        threads: Option<usize>,
-        /// Engine of each case: cpu, gpu or auto (as for `run`).
-        #[arg(long, default_value = "auto")]
-        backend: Backend,
-        /// Arithmetic of each case's GPU engine: exact, mixed or auto (as for `run`).
-        #[arg(long, default_value = "auto")]
-        precision: crate::job::PrecisionChoice,
-        /// Do not run: write DIR/sweep.sbatch, a Slurm job array with one case per task, and
-        /// DIR/cases.csv.
-        #[arg(long)]
-        slurm: bool,
-        /// Run only the case of this index (0-based, the order of cases.csv): what each array
-        /// task of sweep.sbatch does.
-        #[arg(long, conflicts_with = "slurm")]
-        case: Option<usize>,
-        /// With --slurm: time limit per task (overrides [slurm] time), e.g. 02:00:00.
-        #[arg(long, requires = "slurm")]
-        time: Option<String>,
-        /// With --slurm: memory per task in MB (overrides [slurm] mem_mb).
-        #[arg(long, requires = "slurm")]
-        mem_mb: Option<u64>,
-    },
+    Sweep(SweepArgs),
     /// Reproduce the results of Seizinger et al. (2012): quasi-static and dynamic
     /// omnidirectional and unidirectional sweeps, analysed and gathered into
     /// OUT/REPRODUCTION.md beside the paper's numbers. Running it again resumes the sweeps.
@@ -277,42 +129,7 @@ pub(super) enum Command {
         report_only: bool,
     },
     /// Write measured-like data from the simulator, with effects switched on and noise added.
-    Synth {
-        /// Base config (sample size, wall speed, time step, model).
-        #[arg(long)]
-        config: PathBuf,
-        /// An effect and its factor, e.g. rolling_stiffness=8 (repeatable).
-        #[arg(long)]
-        effect: Vec<String>,
-        /// Compression curves to write: omni, uni, or both as omni,uni.
-        #[arg(long, value_delimiter = ',', default_value = "omni")]
-        geometry: Vec<Geometry>,
-        /// Leave out the sticking velocity.
-        #[arg(long)]
-        no_sticking: bool,
-        /// RBD sample seeds averaged per curve.
-        #[arg(long, value_delimiter = ',', default_value = "101,102,103")]
-        seeds: Vec<u64>,
-        #[arg(long, default_value_t = 1e2)]
-        p_min: f64,
-        #[arg(long, default_value_t = 1e5)]
-        p_max: f64,
-        /// Points per curve.
-        #[arg(long, default_value_t = 10)]
-        points: usize,
-        /// 1-sigma noise added to each filling factor.
-        #[arg(long, default_value_t = 0.005)]
-        noise: f64,
-        /// Relative 1-sigma noise of the sticking velocity.
-        #[arg(long, default_value_t = 0.05)]
-        sticking_noise: f64,
-        #[arg(long, default_value_t = 1)]
-        noise_seed: u64,
-        #[arg(long)]
-        out: PathBuf,
-        #[arg(long)]
-        threads: Option<usize>,
-    },
+    Synth(SynthArgs),
 }
 
 #[derive(Subcommand)]
@@ -352,4 +169,203 @@ pub(super) struct ReportArgs {
     /// tallies: runs on every adapter) or auto (exact where the adapter has f64, else mixed).
     #[arg(long, default_value = "auto")]
     pub(super) precision: PrecisionChoice,
+}
+
+// The arguments of `dustdem calibrate`.
+#[derive(Args)]
+pub(super) struct CalibrateArgs {
+    /// Measured-data file (see configs/measured/); repeat it to fit the curves of several
+    /// files jointly.
+    #[arg(long, required = true)]
+    pub(super) measured: Vec<PathBuf>,
+    /// Base config: material, model, sample size, wall speed, time step.
+    #[arg(long)]
+    pub(super) config: PathBuf,
+    #[arg(long, default_value = "runs/calibration")]
+    pub(super) out: PathBuf,
+    /// RBD sample seeds; each compression curve is simulated once per seed for the
+    /// baseline and for every correction kept.
+    #[arg(long, value_delimiter = ',', default_value = "1,2,3")]
+    pub(super) seeds: Vec<u64>,
+    /// Seeds of the screen and the 1-D fits: the first N of --seeds, compared with the
+    /// current model on the same samples (common random numbers); 0: every seed.
+    #[arg(long, default_value_t = 1)]
+    pub(super) screen_seeds: usize,
+    /// Sample size of the screen and the 1-D fits (multi-fidelity in size), smaller than
+    /// the config's; the baseline, the polished fits, the gaps and the detection limits of
+    /// a gap within noise stay at the config's size. 0: the config's size.
+    #[arg(long, default_value_t = 0)]
+    pub(super) screen_monomers: usize,
+    /// Widen and refine every effect, also those that cannot come within Δχ² = 2 of the
+    /// best after the screen.
+    #[arg(long)]
+    pub(super) no_prune: bool,
+    /// Screen every effect at the upper end of its range only (the search before both ends
+    /// were screened: an effect is then pruned on its scaled response, which is no bound).
+    #[arg(long)]
+    pub(super) screen_upper_end_only: bool,
+    /// Single effects only: no joint fits of pairs and no proposed discriminating
+    /// measurement (the search before pairs, which the committed real-data calibrations
+    /// were made with).
+    #[arg(long)]
+    pub(super) single_effects_only: bool,
+    /// Effects added one after the other at most.
+    #[arg(long, default_value_t = 2)]
+    pub(super) rounds: usize,
+    /// After the rounds, search again for each applied effect but the last with all the
+    /// others in, and let a better fit replace it (then the last one too).
+    #[arg(long)]
+    pub(super) revisit: bool,
+    /// Simulation threads (default: all cores).
+    #[arg(long)]
+    pub(super) threads: Option<usize>,
+    /// Only estimate what the (planned) data and the config's system size can resolve:
+    /// the baseline and a screen of every effect, no fit; writes plan.md.
+    #[arg(long)]
+    pub(super) plan: bool,
+    /// Where finished runs are kept, so a repeated or interrupted calibration does not
+    /// repeat them (default: OUT/run_cache).
+    #[arg(long)]
+    pub(super) cache: Option<PathBuf>,
+    /// Only read the run cache: a run it does not hold is an error, never simulated
+    /// (rebuilds a report from a committed cache).
+    #[arg(long, conflicts_with = "slurm")]
+    pub(super) cache_only: bool,
+    /// Make each batch of runs a step needs as a Slurm job array over the run cache (one
+    /// run per task; `sbatch --wait`), then go on; the result is the local calibration's.
+    #[arg(long)]
+    pub(super) slurm: bool,
+    /// Time limit of each array task (Slurm's format).
+    #[arg(long, default_value = "01:00:00", requires = "slurm")]
+    pub(super) slurm_time: String,
+    /// Memory per array task [MB].
+    #[arg(long, default_value_t = 2000, requires = "slurm")]
+    pub(super) slurm_mem_mb: u64,
+    /// At most this many array tasks at once (0: no limit).
+    #[arg(long, default_value_t = 0, requires = "slurm")]
+    pub(super) slurm_max_running: u64,
+}
+
+// The arguments of `dustdem bench`.
+#[derive(Args)]
+pub(super) struct BenchArgs {
+    /// Sample sizes N, comma-separated (10 to 10000000).
+    #[arg(long, default_value = "1000,10000,100000,1000000")]
+    pub(super) sizes: String,
+    /// Target wall-clock seconds of one measurement (0.05 to 3600); the steps follow from
+    /// a short timed probe of each engine.
+    #[arg(long, default_value_t = 20.0)]
+    pub(super) seconds: f64,
+    /// Rounds; each runs every engine once in turn from the same starting state (1 to 100).
+    #[arg(long, default_value_t = 3)]
+    pub(super) rounds: usize,
+    /// CPU engine thread counts, comma-separated: numbers or `all`.
+    #[arg(long, default_value = "1,all")]
+    pub(super) threads: String,
+    /// Engines: cpu, gpu (exact precision; skipped with a note where no adapter has f64)
+    /// and gpu-mixed (the mixed precision, on any adapter), comma-separated.
+    #[arg(long, default_value = "cpu,gpu")]
+    pub(super) backends: String,
+    /// Also export the sample and an input deck for LAMMPS and, where `lmp` is on PATH,
+    /// run it on 1 and 2 MPI ranks.
+    #[arg(long)]
+    pub(super) lammps: bool,
+    /// Also time the CPU engine on all threads with the monomers stored in the sample's
+    /// order instead of the space-filling order, to show what that order gains.
+    #[arg(long)]
+    pub(super) sample_order: bool,
+    /// Also time the CPU engine on all threads without booking the inelastic corrections'
+    /// dissipation (`[output] tally_corrections = false`), with its ratio to LAMMPS.
+    #[arg(long)]
+    pub(super) untallied: bool,
+    /// Starting states, comma-separated: `fresh` (the RBD sample) and filling factors
+    /// (0.16 to 0.6) the engine first compresses the sample to, e.g. `fresh,0.3,0.45`;
+    /// compressed states are stored under <out>/states and reused.
+    #[arg(long, default_value = "fresh")]
+    pub(super) samples: String,
+    /// Top wall speed [m/s] that compresses the compressed states (0.01 to 25); their
+    /// measurement goes on at this speed (the fresh sample's at 1 m/s).
+    #[arg(long, default_value_t = 1.0)]
+    pub(super) prepare_speed: f64,
+    #[arg(long, default_value = "bench")]
+    pub(super) out: PathBuf,
+}
+
+// The arguments of `dustdem synth`.
+#[derive(Args)]
+pub(super) struct SynthArgs {
+    /// Base config (sample size, wall speed, time step, model).
+    #[arg(long)]
+    pub(super) config: PathBuf,
+    /// An effect and its factor, e.g. rolling_stiffness=8 (repeatable).
+    #[arg(long)]
+    pub(super) effect: Vec<String>,
+    /// Compression curves to write: omni, uni, or both as omni,uni.
+    #[arg(long, value_delimiter = ',', default_value = "omni")]
+    pub(super) geometry: Vec<Geometry>,
+    /// Leave out the sticking velocity.
+    #[arg(long)]
+    pub(super) no_sticking: bool,
+    /// RBD sample seeds averaged per curve.
+    #[arg(long, value_delimiter = ',', default_value = "101,102,103")]
+    pub(super) seeds: Vec<u64>,
+    #[arg(long, default_value_t = 1e2)]
+    pub(super) p_min: f64,
+    #[arg(long, default_value_t = 1e5)]
+    pub(super) p_max: f64,
+    /// Points per curve.
+    #[arg(long, default_value_t = 10)]
+    pub(super) points: usize,
+    /// 1-sigma noise added to each filling factor.
+    #[arg(long, default_value_t = 0.005)]
+    pub(super) noise: f64,
+    /// Relative 1-sigma noise of the sticking velocity.
+    #[arg(long, default_value_t = 0.05)]
+    pub(super) sticking_noise: f64,
+    #[arg(long, default_value_t = 1)]
+    pub(super) noise_seed: u64,
+    #[arg(long)]
+    pub(super) out: PathBuf,
+    #[arg(long)]
+    pub(super) threads: Option<usize>,
+}
+
+// The arguments of `dustdem sweep`.
+#[derive(Args)]
+pub(super) struct SweepArgs {
+    #[command(subcommand)]
+    pub(super) action: Option<SweepAction>,
+    /// The sweep file (see configs/sweep_example.toml).
+    #[arg(required = true)]
+    pub(super) sweep: Option<PathBuf>,
+    /// Output directory (overrides the sweep file's `out`; default runs/<sweep file name>).
+    #[arg(long)]
+    pub(super) out: Option<PathBuf>,
+    /// Cases run at once (1 to 1024).
+    #[arg(long)]
+    pub(super) jobs: Option<usize>,
+    /// Threads of each case's CPU engine (1 to 1024; default: the cores divided among the
+    /// jobs; with --slurm: 1). Any count gives the same bits.
+    #[arg(long)]
+    pub(super) threads: Option<usize>,
+    /// Engine of each case: cpu, gpu or auto (as for `run`).
+    #[arg(long, default_value = "auto")]
+    pub(super) backend: Backend,
+    /// Arithmetic of each case's GPU engine: exact, mixed or auto (as for `run`).
+    #[arg(long, default_value = "auto")]
+    pub(super) precision: crate::job::PrecisionChoice,
+    /// Do not run: write DIR/sweep.sbatch, a Slurm job array with one case per task, and
+    /// DIR/cases.csv.
+    #[arg(long)]
+    pub(super) slurm: bool,
+    /// Run only the case of this index (0-based, the order of cases.csv): what each array
+    /// task of sweep.sbatch does.
+    #[arg(long, conflicts_with = "slurm")]
+    pub(super) case: Option<usize>,
+    /// With --slurm: time limit per task (overrides [slurm] time), e.g. 02:00:00.
+    #[arg(long, requires = "slurm")]
+    pub(super) time: Option<String>,
+    /// With --slurm: memory per task in MB (overrides [slurm] mem_mb).
+    #[arg(long, requires = "slurm")]
+    pub(super) mem_mb: Option<u64>,
 }

@@ -1,6 +1,7 @@
 //! The calibration commands: `calibrate` (locally or on Slurm job arrays), the hidden
 //! `calibrate-run` of those arrays' tasks, and `synth`.
 
+use super::args::{CalibrateArgs, SynthArgs};
 use super::progress::release_locks_on_signal;
 use crate::calibrate::slurm::{run_request, SlurmRuns};
 use crate::calibrate::synth::{write_synth, SynthSpec};
@@ -11,21 +12,21 @@ use crate::sweep::slurm_settings::{check_slurm_time, SlurmSettings};
 use std::path::{Path, PathBuf};
 
 /// `calibrate --slurm`: what each batch's job array asks for.
-pub(super) struct SlurmRequest {
-    pub(super) time: String,
-    pub(super) mem_mb: u64,
-    pub(super) max_running: u64,
+struct SlurmRequest {
+    time: String,
+    mem_mb: u64,
+    max_running: u64,
 }
 
 /// How `calibrate` uses its run cache directory.
-pub(super) enum CacheUse {
+enum CacheUse {
     /// Read what it holds, simulate and store the rest.
     Fill(PathBuf),
     /// Read only (`--cache-only`): a missing run is an error.
     ReadOnly(PathBuf),
 }
 
-pub(super) fn calibrate(
+fn calibrate(
     measured: &[PathBuf],
     config: &Path,
     out: &Path,
@@ -79,7 +80,7 @@ pub(super) fn calibrate_run(cache: &Path, request: &Path) -> Result<(), String> 
     Ok(())
 }
 
-pub(super) fn synth(
+fn synth(
     config: &Path,
     effects: &[String],
     spec: &SynthSpec,
@@ -101,4 +102,57 @@ pub(super) fn synth(
         set.sticking.len()
     );
     Ok(())
+}
+
+/// `dustdem calibrate`: the search's settings and the cache and Slurm choices from the
+/// command line.
+pub(super) fn calibrate_command(a: CalibrateArgs) -> Result<(), String> {
+    let cache = a.cache.unwrap_or_else(|| a.out.join("run_cache"));
+    let slurm = a.slurm.then_some(SlurmRequest {
+        time: a.slurm_time,
+        mem_mb: a.slurm_mem_mb,
+        max_running: a.slurm_max_running,
+    });
+    let mut settings = Settings {
+        seeds: a.seeds,
+        screen_seeds: a.screen_seeds,
+        screen_monomers: a.screen_monomers,
+        prune: !a.no_prune,
+        both_ends: !a.screen_upper_end_only,
+        pairs: !a.single_effects_only,
+        max_rounds: a.rounds,
+        revisit: a.revisit,
+        ..Settings::default()
+    };
+    if let Some(t) = a.threads {
+        settings.threads = t;
+    }
+    let cache = match a.cache_only {
+        true => CacheUse::ReadOnly(cache),
+        false => CacheUse::Fill(cache),
+    };
+    calibrate(
+        &a.measured,
+        &a.config,
+        &a.out,
+        &settings,
+        a.plan,
+        &cache,
+        slurm,
+    )
+}
+
+/// `dustdem synth`: the data's specification from the command line.
+pub(super) fn synth_command(a: SynthArgs) -> Result<(), String> {
+    let spec = SynthSpec {
+        geometries: a.geometry,
+        sticking: !a.no_sticking,
+        seeds: a.seeds,
+        pressure_range: (a.p_min, a.p_max),
+        points: a.points,
+        phi_noise: a.noise,
+        sticking_noise: a.sticking_noise,
+        noise_seed: a.noise_seed,
+    };
+    synth(&a.config, &a.effect, &spec, a.threads, &a.out)
 }

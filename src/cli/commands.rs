@@ -1,6 +1,6 @@
 //! What each subcommand does: load the config, call the library, print what it returns.
 
-use super::args::ReportArgs;
+use super::args::{BenchArgs, ReportArgs};
 use super::progress::{
     interrupt_flag, mark_stopped_at_checkpoint, print_summary, release_locks_on_signal, Reporter,
 };
@@ -11,8 +11,7 @@ use crate::experiment::collision::analytic_sticking_speed;
 use crate::experiment::compression::RunError;
 use crate::experiment::setup::build_sample;
 use crate::job::{
-    gpu_report, resume_job, run_job, Backend, JobOptions, JobSummary, PrecisionChoice, Progress,
-    DEFAULT_CONFIG,
+    gpu_report, resume_job, run_job, Backend, JobOptions, JobSummary, Progress, DEFAULT_CONFIG,
 };
 use crate::material::{
     chokshi_sticking_velocity, normal_period, rolling_energy_quarter_turn, sliding_period, Derived,
@@ -20,10 +19,6 @@ use crate::material::{
 use crate::output::csv::read_csv;
 use crate::output::lock::lock_dir;
 use crate::sample::{interior_filling_factor, Footprint};
-use crate::sweep::collect::collect;
-use crate::sweep::slurm::Script;
-use crate::sweep::slurm_settings::check_slurm_time;
-use crate::sweep::{case_state, run_cases, write_case_list, RunSettings, Sweep, CASES_FILE};
 use std::path::{Path, PathBuf};
 
 fn load_config(path: Option<&Path>) -> Result<Config, String> {
@@ -237,7 +232,25 @@ pub(super) fn info(config: Option<PathBuf>, monomers: Option<usize>) -> Result<(
     Ok(())
 }
 
-pub(super) fn bench(options: BenchOptions) -> Result<(), String> {
+/// `dustdem bench`: the options checked, then the measurement and its tables.
+pub(super) fn bench_command(a: BenchArgs) -> Result<(), String> {
+    let o = BenchOptions::parse(
+        &a.sizes,
+        a.seconds,
+        a.rounds,
+        &a.threads,
+        &a.backends,
+        a.lammps,
+        a.out,
+    )?
+    .with_samples(&a.samples, a.prepare_speed)?;
+    let options = BenchOptions {
+        sample_order: a.sample_order,
+        untallied: a.untallied,
+        // This executable runs the whole runs of `--lammps`.
+        dustdem_exe: std::env::current_exe().ok(),
+        ..o
+    };
     let progress = |line: &str| eprintln!("{line}");
     let report = run_bench(&options, &progress)?;
     for path in write_tables(&report)? {
@@ -246,205 +259,13 @@ pub(super) fn bench(options: BenchOptions) -> Result<(), String> {
     Ok(())
 }
 
-/// `dustdem sweep` as the command line gave it.
-pub(super) struct SweepRequest {
-    pub(super) file: PathBuf,
-    pub(super) out: Option<PathBuf>,
-    pub(super) jobs: Option<usize>,
-    pub(super) threads: Option<usize>,
-    pub(super) backend: Backend,
-    pub(super) precision: PrecisionChoice,
-    pub(super) slurm: bool,
-    pub(super) case: Option<usize>,
-    pub(super) time: Option<String>,
-    pub(super) mem_mb: Option<u64>,
-}
-
-fn in_range(flag: &str, v: usize, lo: usize, hi: usize) -> Result<usize, String> {
+/// `v` if it lies in `lo..=hi`; otherwise an error naming the flag, value and range.
+pub(super) fn in_range(flag: &str, v: usize, lo: usize, hi: usize) -> Result<usize, String> {
     if (lo..=hi).contains(&v) {
         Ok(v)
     } else {
         Err(format!("{flag} {v}: out of range; allowed {lo} to {hi}"))
     }
-}
-
-/// Runs a sweep (all cases, or `--case`), or writes its Slurm job array (`--slurm`).
-pub(super) fn sweep(request: SweepRequest) -> Result<(), String> {
-    let spec = Sweep::load(&request.file).map_err(|e| e.to_string())?;
-    let out_dir = spec.out_dir(request.out.as_deref());
-    // Absolute, so that each case's config, log and the job script name it from anywhere.
-    let out_dir =
-        std::path::absolute(&out_dir).map_err(|e| format!("{}: {e}", out_dir.display()))?;
-    let cases = spec.cases(&out_dir).map_err(|e| e.to_string())?;
-    // A whole sweep owns its directory; an array task (`--case`) only its case's directory,
-    // which `run_cases` locks, so the tasks of one array run side by side.
-    let _lock = match request.case {
-        None => Some(lock_dir(&out_dir)?),
-        Some(_) => None,
-    };
-    let backend = match request.backend {
-        Backend::Cpu => "cpu",
-        Backend::Gpu => "gpu",
-        Backend::Auto => "auto",
-    };
-    let exe = std::env::current_exe()
-        .map_err(|e| format!("cannot find this program's path to run the cases with: {e}"))?;
-    let jobs = in_range("--jobs", request.jobs.unwrap_or(1), 1, 1024)?;
-    if request.slurm {
-        let threads = in_range("--threads", request.threads.unwrap_or(1), 1, 1024)?;
-        let mut settings = spec.slurm.clone();
-        if let Some(t) = request.time {
-            check_slurm_time(&t)?;
-            settings.time = t;
-        }
-        if let Some(m) = request.mem_mb {
-            in_range("--mem-mb", m as usize, 1, 16_000_000)?;
-            settings.mem_mb = m;
-        }
-        // A case directory that is not this sweep's is refused now, not in the tasks.
-        for case in &cases {
-            case_state(case, &out_dir.join(&case.name))?;
-        }
-        let out_abs = out_dir.clone();
-        let file_abs = std::path::absolute(&spec.file).map_err(|e| e.to_string())?;
-        write_case_list(&spec, &out_abs, &cases)?;
-        let stem = file_abs
-            .file_stem()
-            .map_or("sweep".into(), |s| s.to_string_lossy().into_owned());
-        let script = Script {
-            exe: &exe,
-            sweep_file: &file_abs,
-            out_dir: &out_abs,
-            cases: cases.len(),
-            threads,
-            backend,
-            precision: request.precision.as_str(),
-            settings: &settings,
-            job_name: format!("dustdem-{stem}"),
-        }
-        .write()?;
-        println!(
-            "wrote {} ({} array tasks, {} CPU{} and {} MB each, time limit {}) and {}",
-            script.display(),
-            cases.len(),
-            threads,
-            if threads == 1 { "" } else { "s" },
-            settings.mem_mb,
-            settings.time,
-            out_abs.join(CASES_FILE).display()
-        );
-        println!("submit: sbatch {}", script.display());
-        println!("then:   dustdem sweep collect {}", out_abs.display());
-        return Ok(());
-    }
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let threads = in_range(
-        "--threads",
-        request.threads.unwrap_or((cores / jobs).max(1)),
-        1,
-        1024,
-    )?;
-    let selected = match request.case {
-        Some(i) if i < cases.len() => &cases[i..=i],
-        Some(i) => {
-            return Err(format!(
-                "--case {i}: out of range; this sweep has {} cases, 0 to {}",
-                cases.len(),
-                cases.len() - 1
-            ))
-        }
-        None => &cases[..],
-    };
-    write_case_list(&spec, &out_dir, &cases)?;
-    let settings = RunSettings {
-        jobs,
-        threads,
-        backend: backend.to_string(),
-        precision: request.precision.as_str().to_string(),
-        exe,
-    };
-    let flag = interrupt_flag();
-    let mut say = |line: &str| eprintln!("{line}");
-    let outcome = run_cases(
-        selected,
-        selected.len(),
-        &out_dir,
-        &settings,
-        &flag,
-        &mut say,
-    )?;
-    if request.case.is_none() {
-        let collected = collect(&out_dir)?;
-        println!("wrote {}", collected.table.display());
-    }
-    if outcome.failed.is_empty() && !outcome.interrupted.is_empty() {
-        mark_stopped_at_checkpoint();
-    }
-    let mut problems = Vec::new();
-    for (name, why) in &outcome.failed {
-        problems.push(format!("{name} failed: {why}"));
-    }
-    if !outcome.interrupted.is_empty() || outcome.not_started > 0 {
-        problems.push(format!(
-            "interrupted ({} case{} stopped at a checkpoint, {} not started); run the same \
-             command again to continue",
-            outcome.interrupted.len(),
-            if outcome.interrupted.len() == 1 {
-                ""
-            } else {
-                "s"
-            },
-            outcome.not_started
-        ));
-    }
-    println!(
-        "{} of {} case{} finished ({} now, {} before)",
-        outcome.done + outcome.skipped,
-        selected.len(),
-        if selected.len() == 1 { "" } else { "s" },
-        outcome.done,
-        outcome.skipped
-    );
-    if problems.is_empty() {
-        Ok(())
-    } else {
-        Err(problems.join("; "))
-    }
-}
-
-/// `dustdem sweep collect DIR`: writes DIR/sweep.csv and names the cases that are not done.
-pub(super) fn sweep_collect(dir: &Path) -> Result<(), String> {
-    let collected = collect(dir)?;
-    let total = collected.rows.len();
-    let not_done: Vec<_> = collected.not_done().collect();
-    println!(
-        "wrote {}: {total} case{}, {} done",
-        collected.table.display(),
-        if total == 1 { "" } else { "s" },
-        total - not_done.len()
-    );
-    if not_done.is_empty() {
-        return Ok(());
-    }
-    for r in &not_done {
-        eprintln!(
-            "  {} (case {}): {}: {}",
-            r.case, r.index, r.status, r.detail
-        );
-    }
-    Err(format!(
-        "{} of {total} cases are not done (listed above, with their status in {}); run the \
-         sweep again (or resubmit its sweep.sbatch) to run or resume them",
-        not_done.len(),
-        collected.table.display()
-    ))
-}
-
-/// `dustdem sweep analyze DIR`: the report of the finished cases.
-pub(super) fn sweep_analyze(dir: &Path) -> Result<(), String> {
-    let report = crate::sweep::analyze::analyze_dir(dir)?;
-    println!("wrote {}", report.display());
-    Ok(())
 }
 
 /// `dustdem reproduce`: runs (or submits, or reports) a tier of the paper's results.
